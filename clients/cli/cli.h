@@ -1,0 +1,76 @@
+#pragma once
+// Shared pieces of the gaitforge command-line client.
+#include <grpcpp/grpcpp.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gaitforge/v1/study.grpc.pb.h"
+
+namespace gaitforge::cli {
+
+// Exit codes scripts can rely on (docs/cli.md).
+enum ExitCode {
+  kOk = 0,
+  kStudyNotCompleted = 1,  // a watched study ended failed or cancelled
+  kUsage = 2,              // bad flags or bad input (spec errors)
+  kNotFound = 3,           // unknown study id or generation
+  kUnavailable = 4,        // no coordinator reachable
+  kFailed = 5,             // any other error
+};
+
+struct GlobalOptions {
+  std::string coordinator;       // empty: embedded mode over `db`
+  std::string db = "runs/gaitforge.db";
+  double timeout_s = 30;         // deadline of every unary call
+  bool json = false;
+  bool csv = false;
+};
+
+// A connection to a coordinator: a given address, or an embedded read-only coordinator
+// started on the database file for the life of this object.
+class Connection {
+ public:
+  static std::unique_ptr<Connection> Open(const GlobalOptions& g, bool writable, std::string* error);
+  ~Connection();
+  v1::StudyService::Stub& study() { return *study_; }
+  const std::string& target() const { return target_; }
+  pid_t embedded_pid() const { return pid_; }
+
+ private:
+  std::string target_;
+  pid_t pid_ = 0;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::StudyService::Stub> study_;
+};
+
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target);
+void SetDeadline(grpc::ClientContext& ctx, double seconds);
+// Prints the error and returns the matching exit code.
+int ReportRpcError(const grpc::Status& s, const std::string& what);
+std::string ToJson(const google::protobuf::Message& m);
+std::string StateName(v1::StudyState s);
+std::string FormatDuration(double seconds);
+
+// Command entry points: args are what follows the command name.
+int CmdSubmit(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdWatch(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdList(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdShow(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int generation,
+           bool has_generation);
+int CmdHistory(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args, int generation);
+int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+              int threads);
+int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args);
+int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+             int threads);
+
+// Streams progress of a study until it ends, drawing a progress bar on a terminal.
+// Returns kOk if it completed.
+int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const GlobalOptions& g,
+                   double watch_timeout_s);
+
+}  // namespace gaitforge::cli

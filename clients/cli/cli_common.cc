@@ -1,0 +1,153 @@
+#include <google/protobuf/util/json_util.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "absl/strings/str_format.h"
+#include "clients/cli/cli.h"
+#include "clients/cli/processes.h"
+
+namespace gaitforge::cli {
+
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 20000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+}
+
+void SetDeadline(grpc::ClientContext& ctx, double seconds) {
+  ctx.set_deadline(std::chrono::system_clock::now() +
+                   std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+}
+
+std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writable,
+                                             std::string* error) {
+  std::unique_ptr<Connection> c(new Connection());
+  if (!g.coordinator.empty()) {
+    c->target_ = g.coordinator;
+  } else {
+    if (!writable && !std::filesystem::exists(g.db)) {
+      *error = "no database at '" + g.db +
+               "': run 'gaitforge local SPEC' first, or name a server with --coordinator";
+      return nullptr;
+    }
+    const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
+    c->pid_ = StartCoordinator(g.db, !writable, logs.empty() ? "logs" : logs, &c->target_, error);
+    if (c->pid_ < 0) return nullptr;
+  }
+  c->channel_ = MakeChannel(c->target_);
+  c->study_ = v1::StudyService::NewStub(c->channel_);
+  return c;
+}
+
+Connection::~Connection() {
+  study_.reset();
+  channel_.reset();
+  if (pid_ > 0) Stop(pid_, 5);
+}
+
+int ReportRpcError(const grpc::Status& s, const std::string& what) {
+  std::cerr << "gaitforge: " << what << ": " << s.error_message() << "\n";
+  switch (s.error_code()) {
+    case grpc::StatusCode::INVALID_ARGUMENT:
+    case grpc::StatusCode::FAILED_PRECONDITION:
+    case grpc::StatusCode::OUT_OF_RANGE:
+      return s.error_code() == grpc::StatusCode::OUT_OF_RANGE ? kNotFound : kUsage;
+    case grpc::StatusCode::NOT_FOUND:
+      return kNotFound;
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+      return kUnavailable;
+    default:
+      return kFailed;
+  }
+}
+
+std::string ToJson(const google::protobuf::Message& m) {
+  std::string out;
+  google::protobuf::util::JsonPrintOptions o;
+  o.preserve_proto_field_names = true;
+  o.always_print_primitive_fields = true;
+  (void)google::protobuf::util::MessageToJsonString(m, &out, o);
+  return out;
+}
+
+std::string StateName(v1::StudyState s) {
+  switch (s) {
+    case v1::STUDY_STATE_RUNNING: return "running";
+    case v1::STUDY_STATE_PAUSED: return "paused";
+    case v1::STUDY_STATE_CANCELLED: return "cancelled";
+    case v1::STUDY_STATE_COMPLETED: return "completed";
+    case v1::STUDY_STATE_FAILED: return "failed";
+    default: return "unknown";
+  }
+}
+
+std::string FormatDuration(double s) {
+  if (!std::isfinite(s) || s < 0) return "--";
+  const int t = static_cast<int>(s + 0.5);
+  if (t >= 3600) return absl::StrFormat("%dh%02dm", t / 3600, (t / 60) % 60);
+  if (t >= 60) return absl::StrFormat("%dm%02ds", t / 60, t % 60);
+  return absl::StrFormat("%ds", t);
+}
+
+int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const GlobalOptions& g,
+                   double watch_timeout_s) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, watch_timeout_s);
+  v1::WatchStudyRequest req;
+  req.set_study_id(id);
+  auto reader = stub.WatchStudy(&ctx, req);
+  const bool tty = isatty(STDERR_FILENO) && !g.json;
+  v1::Progress p;
+  v1::Progress last;
+  bool any = false;
+  int printed_gen = -1;
+  auto started = std::chrono::steady_clock::now();
+  while (reader->Read(&p)) {
+    any = true;
+    last = p;
+    const int total = std::max(1, p.generations_total());
+    const double frac = static_cast<double>(p.generations_done()) / total;
+    const std::string line = absl::StrFormat(
+        "gen %d/%d  best %.6g  mean %.6g  %.0f ev/s  ETA %s", p.generations_done(), total,
+        p.best(), p.mean(), p.evals_per_second(), FormatDuration(p.eta_seconds()));
+    if (tty) {
+      const int width = 30;
+      const int fill = static_cast<int>(frac * width);
+      std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] "
+                << line << "   " << std::flush;
+    } else if (!g.json) {
+      // One line per ~10% of the study, and the last one.
+      const int step = std::max(1, total / 10);
+      if (p.generations_done() / step != printed_gen / step ||
+          p.state() != v1::STUDY_STATE_RUNNING) {
+        std::cerr << line << "\n";
+        printed_gen = p.generations_done();
+      }
+    }
+  }
+  if (tty) std::cerr << "\n";
+  grpc::Status s = reader->Finish();
+  if (!s.ok()) return ReportRpcError(s, "watch " + id);
+  if (!any) return kFailed;
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (g.json) {
+    std::cout << ToJson(last) << "\n";
+  } else {
+    std::cerr << "study " << id << " " << StateName(last.state()) << " after "
+              << last.generations_done() << " generations (" << FormatDuration(wall)
+              << " watched), best fitness " << last.best() << ", " << last.evaluations()
+              << " evaluations\n";
+    if (!last.error().empty()) std::cerr << "error: " << last.error() << "\n";
+  }
+  return last.state() == v1::STUDY_STATE_COMPLETED ? kOk : kStudyNotCompleted;
+}
+
+}  // namespace gaitforge::cli

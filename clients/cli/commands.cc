@@ -1,0 +1,260 @@
+// Query and control commands: submit, watch, list, show, hof, history, individuals,
+// resume, cancel.
+#include <cmath>
+#include <iostream>
+
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "clients/cli/cli.h"
+#include "services/spec/spec_loader.h"
+#include "services/spec/spec_validation.h"
+
+namespace gaitforge::cli {
+namespace {
+
+int NeedArgs(const std::vector<std::string>& args, size_t n, const char* usage) {
+  if (args.size() != n) {
+    std::cerr << "gaitforge: usage: " << usage << "\n";
+    return kUsage;
+  }
+  return kOk;
+}
+
+std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code) {
+  std::string error;
+  auto c = Connection::Open(g, writable, &error);
+  if (!c) {
+    std::cerr << "gaitforge: " << error << "\n";
+    *code = error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
+  }
+  return c;
+}
+
+std::string Genes(const google::protobuf::RepeatedField<double>& genes) {
+  std::vector<std::string> parts;
+  for (double x : genes) parts.push_back(absl::StrFormat("%.4f", x));
+  return absl::StrJoin(parts, " ");
+}
+
+void PrintSummary(const v1::StudySummary& s) {
+  std::cout << "study        " << s.study_id() << "\n"
+            << "name         " << s.spec().name() << "\n"
+            << "state        " << StateName(s.state()) << "\n"
+            << "engine       " << s.spec().engine() << "\n"
+            << "objective    " << s.spec().objective().name() << "\n"
+            << "seed         " << s.spec().seed() << "\n"
+            << "generations  " << s.generations_done() << " / " << s.spec().generations()
+            << "\n"
+            << "population   " << s.spec().population() << "\n"
+            << "evaluations  " << s.evaluations() << "\n"
+            << "best         " << s.best_fitness() << "\n"
+            << "mean         " << s.mean_fitness() << "\n";
+  if (!s.error().empty()) std::cout << "error        " << s.error() << "\n";
+  if (!s.db_path().empty()) std::cout << "database     " << s.db_path() << "\n";
+}
+
+}  // namespace
+
+// Loads, completes and validates a spec file; errors name file, line and field.
+int LoadSpec(const std::string& path, v1::StudySpec* out) {
+  auto loaded = spec::LoadSpecFile(path);
+  if (!loaded.ok()) {
+    std::cerr << "gaitforge: " << loaded.status().message() << "\n";
+    return loaded.status().code() == absl::StatusCode::kNotFound ? kNotFound : kUsage;
+  }
+  spec::ApplyDefaults(&loaded->spec);
+  if (auto s = spec::ValidationStatus(spec::Validate(loaded->spec), &*loaded); !s.ok()) {
+    std::cerr << "gaitforge: invalid spec:\n" << s.message() << "\n";
+    return kUsage;
+  }
+  *out = loaded->spec;
+  return kOk;
+}
+
+int CmdSubmit(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 1, "gaitforge submit SPEC.yaml"); c) return c;
+  v1::CreateStudyRequest req;
+  if (int c = LoadSpec(args[0], req.mutable_spec()); c) return c;
+  if (g.coordinator.empty()) {
+    std::cerr << "gaitforge: submit needs a running coordinator (--coordinator HOST:PORT or "
+                 "GAITFORGE_COORDINATOR); to run a study on this machine use 'gaitforge local'\n";
+    return kUsage;
+  }
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::CreateStudyResponse resp;
+  grpc::Status s = conn->study().CreateStudy(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "submit " + args[0]);
+  if (g.json) std::cout << ToJson(resp.study()) << "\n";
+  else std::cout << resp.study().study_id() << "\n";
+  return kOk;
+}
+
+int CmdWatch(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 1, "gaitforge watch STUDY_ID"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  return WatchUntilDone(conn->study(), args[0], g, 7 * 24 * 3600.0);
+}
+
+int CmdList(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 0, "gaitforge list"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::ListStudiesResponse resp;
+  grpc::Status s = conn->study().ListStudies(&ctx, v1::ListStudiesRequest(), &resp);
+  if (!s.ok()) return ReportRpcError(s, "list");
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  std::cout << absl::StrFormat("%-32s %-10s %-12s %9s %12s %10s\n", "STUDY", "STATE",
+                               "OBJECTIVE", "GEN", "BEST", "EVALS");
+  for (const auto& st : resp.studies()) {
+    std::cout << absl::StrFormat("%-32s %-10s %-12s %4d/%-4d %12.6g %10d\n", st.study_id(),
+                                 StateName(st.state()), st.spec().objective().name(),
+                                 st.generations_done(), st.spec().generations(),
+                                 st.best_fitness(), st.evaluations());
+  }
+  return kOk;
+}
+
+int CmdShow(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 1, "gaitforge show STUDY_ID"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(args[0]);
+  v1::StudySummary resp;
+  grpc::Status s = conn->study().GetStudy(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "show " + args[0]);
+  if (g.json) std::cout << ToJson(resp) << "\n";
+  else PrintSummary(resp);
+  return kOk;
+}
+
+int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int generation,
+           bool has_generation) {
+  if (int c = NeedArgs(args, 1, "gaitforge hof STUDY_ID [--generation G]"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetHallOfFameRequest req;
+  req.set_study_id(args[0]);
+  if (has_generation) req.set_generation(generation);
+  v1::GetHallOfFameResponse resp;
+  grpc::Status s = conn->study().GetHallOfFame(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "hof " + args[0]);
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  if (g.csv) {
+    std::cout << "rank,origin_generation,origin_member,fitness,genes\n";
+    for (const auto& e : resp.entries())
+      std::cout << e.rank() << "," << e.individual().generation() << ","
+                << e.individual().member() << ","
+                << absl::StrFormat("%.17g", e.individual().evaluation().fitness()) << ","
+                << Genes(e.individual().genes()) << "\n";
+    return kOk;
+  }
+  std::cout << "hall of fame after generation " << resp.generation() << "\n";
+  std::cout << absl::StrFormat("%4s %10s %12s  %s\n", "RANK", "FROM", "FITNESS", "GENES");
+  for (const auto& e : resp.entries()) {
+    std::cout << absl::StrFormat("%4d %5d/%-4d %12.6g  %s\n", e.rank(),
+                                 e.individual().generation(), e.individual().member(),
+                                 e.individual().evaluation().fitness(),
+                                 Genes(e.individual().genes()));
+  }
+  return kOk;
+}
+
+int CmdHistory(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 1, "gaitforge history STUDY_ID [--json|--csv]"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetHistoryRequest req;
+  req.set_study_id(args[0]);
+  v1::GetHistoryResponse resp;
+  grpc::Status s = conn->study().GetHistory(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "history " + args[0]);
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  if (g.csv) {
+    std::cout << "generation,best,mean,stddev,diversity,evaluations,invalid\n";
+    for (const auto& h : resp.generations())
+      std::cout << absl::StrFormat("%d,%.17g,%.17g,%.17g,%.17g,%d,%d\n", h.generation(), h.best(),
+                                   h.mean(), h.stddev(), h.diversity(), h.evaluations(),
+                                   h.invalid());
+    return kOk;
+  }
+  std::cout << absl::StrFormat("%5s %12s %12s %10s %9s %6s %7s\n", "GEN", "BEST", "MEAN",
+                               "STDDEV", "DIVERSITY", "EVALS", "INVALID");
+  for (const auto& h : resp.generations())
+    std::cout << absl::StrFormat("%5d %12.6g %12.6g %10.4g %9.4f %6d %7d\n", h.generation(),
+                                 h.best(), h.mean(), h.stddev(), h.diversity(), h.evaluations(),
+                                 h.invalid());
+  return kOk;
+}
+
+int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args, int generation) {
+  if (int c = NeedArgs(args, 1, "gaitforge individuals STUDY_ID --generation G"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::ListIndividualsRequest req;
+  req.set_study_id(args[0]);
+  req.set_generation(generation);
+  v1::ListIndividualsResponse resp;
+  grpc::Status s = conn->study().ListIndividuals(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "individuals " + args[0]);
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  std::cout << "member,valid,fitness,carried,worker,eval_seconds,reason,genes\n";
+  for (const auto& i : resp.individuals())
+    std::cout << i.member() << "," << i.evaluation().valid() << ","
+              << absl::StrFormat("%.17g", i.evaluation().fitness()) << "," << i.carried() << ","
+              << i.worker_id() << "," << i.eval_seconds() << ",\"" << i.evaluation().reason()
+              << "\"," << Genes(i.genes()) << "\n";
+  return kOk;
+}
+
+int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 1, "gaitforge cancel STUDY_ID"); c) return c;
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::CancelStudyRequest req;
+  req.set_study_id(args[0]);
+  v1::StudySummary resp;
+  grpc::Status s = conn->study().CancelStudy(&ctx, req, &resp);
+  if (!s.ok()) return ReportRpcError(s, "cancel " + args[0]);
+  if (g.json) std::cout << ToJson(resp) << "\n";
+  else std::cout << resp.study_id() << " " << StateName(resp.state()) << "\n";
+  return kOk;
+}
+
+}  // namespace gaitforge::cli

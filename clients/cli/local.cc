@@ -1,0 +1,118 @@
+// The embedded default: `gaitforge local SPEC` and `gaitforge resume ID` without a
+// --coordinator start a coordinator and N worker processes on this machine, over a SQLite
+// file under ./runs/, run the study to its end and leave everything queryable.
+#include <unistd.h>
+
+#include <filesystem>
+#include <functional>
+#include <iostream>
+
+#include "clients/cli/cli.h"
+#include "clients/cli/processes.h"
+
+namespace gaitforge::cli {
+
+int LoadSpec(const std::string& path, v1::StudySpec* out);
+
+namespace {
+
+// Starts workers against `target`, runs `start` (which returns the study id, or "" after
+// printing an error), watches the study to its end, then drains the workers.
+int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, int threads,
+                        const std::function<std::string(v1::StudyService::Stub&)>& start,
+                        int* start_code) {
+  const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
+  std::string id = start(conn.study());
+  if (id.empty()) return *start_code;
+  std::vector<pid_t> pids;
+  for (int i = 0; i < workers; ++i) {
+    const std::string log = logs + "/worker-" + std::to_string(i) + ".log";
+    pids.push_back(Spawn({SiblingBinary("gaitforge-worker"), "--coordinator", conn.target(),
+                          "--threads", std::to_string(threads), "--worker-id",
+                          "local-" + std::to_string(i) + "-" + std::to_string(getpid())},
+                         log));
+  }
+  if (!g.json)
+    std::cerr << "study " << id << ": " << workers << " local worker(s) x " << threads
+              << " thread(s); database " << g.db << "; logs in " << logs << "/\n";
+  const int code = WatchUntilDone(conn.study(), id, g, 30 * 24 * 3600.0);
+  for (pid_t p : pids) Stop(p, 10);
+  if (!g.json && code == kOk)
+    std::cerr << "next: gaitforge history " << id << " | gaitforge hof " << id
+              << " | gaitforge show " << id << "\n";
+  return code;
+}
+
+}  // namespace
+
+int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+             int threads) {
+  if (args.size() != 1) {
+    std::cerr << "gaitforge: usage: gaitforge local SPEC.yaml [--workers N] [--threads T]\n";
+    return kUsage;
+  }
+  if (!g.coordinator.empty()) {
+    std::cerr << "gaitforge: local runs its own coordinator; use 'submit' with --coordinator\n";
+    return kUsage;
+  }
+  v1::CreateStudyRequest req;
+  if (int c = LoadSpec(args[0], req.mutable_spec()); c) return c;
+  std::string error;
+  auto conn = Connection::Open(g, true, &error);
+  if (!conn) {
+    std::cerr << "gaitforge: " << error << "\n";
+    return kUnavailable;
+  }
+  int start_code = kOk;
+  return RunWithLocalWorkers(
+      g, *conn, workers, threads,
+      [&](v1::StudyService::Stub& stub) -> std::string {
+        grpc::ClientContext ctx;
+        SetDeadline(ctx, g.timeout_s);
+        v1::CreateStudyResponse resp;
+        grpc::Status s = stub.CreateStudy(&ctx, req, &resp);
+        if (!s.ok()) {
+          start_code = ReportRpcError(s, "create study from " + args[0]);
+          return "";
+        }
+        return resp.study().study_id();
+      },
+      &start_code);
+}
+
+int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+              int threads) {
+  if (args.size() != 1) {
+    std::cerr << "gaitforge: usage: gaitforge resume STUDY_ID\n";
+    return kUsage;
+  }
+  std::string error;
+  auto conn = Connection::Open(g, true, &error);
+  if (!conn) {
+    std::cerr << "gaitforge: " << error << "\n";
+    return kUnavailable;
+  }
+  int start_code = kOk;
+  auto resume = [&](v1::StudyService::Stub& stub) -> std::string {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::ResumeStudyRequest req;
+    req.set_study_id(args[0]);
+    v1::StudySummary resp;
+    grpc::Status s = stub.ResumeStudy(&ctx, req, &resp);
+    if (!s.ok()) {
+      start_code = ReportRpcError(s, "resume " + args[0]);
+      return "";
+    }
+    return resp.study_id();
+  };
+  if (!g.coordinator.empty()) {
+    // A remote coordinator's workers do the work; just resume and report.
+    if (resume(conn->study()).empty()) return start_code;
+    std::cout << args[0] << " running\n";
+    return kOk;
+  }
+  return RunWithLocalWorkers(g, *conn, workers, threads, resume, &start_code);
+}
+
+}  // namespace gaitforge::cli

@@ -1,0 +1,88 @@
+// gaitforge: the command-line client.
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+#include "clients/cli/cli.h"
+#include "services/core/flags.h"
+
+using namespace gaitforge;
+
+namespace {
+
+const char* kCommands =
+    "commands:\n"
+    "  local SPEC      run a study on this machine: a coordinator, N workers, SQLite under "
+    "./runs/\n"
+    "  submit SPEC     create a study on a coordinator (--coordinator); prints its id\n"
+    "  watch ID        progress bar until the study ends (exit 0 if it completed)\n"
+    "  list            every study\n"
+    "  show ID         one study\n"
+    "  hof ID          hall of fame (--generation G for an earlier one)\n"
+    "  history ID      best, mean and diversity per generation (--json or --csv)\n"
+    "  individuals ID  every member of --generation G (CSV, or --json)\n"
+    "  resume ID       continue a paused, cancelled or interrupted study\n"
+    "  cancel ID       stop a study; its results stay\n"
+    "\n"
+    "Without --coordinator, commands work on the local database (--db), starting a private\n"
+    "coordinator for as long as they run. Exit codes: 0 ok, 1 study ended not completed,\n"
+    "2 bad input, 3 not found, 4 coordinator unavailable, 5 other error (docs/cli.md).\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cli::GlobalOptions g;
+  if (const char* env = std::getenv("GAITFORGE_COORDINATOR")) g.coordinator = env;
+  int workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int threads = 1;
+  int generation = -1;
+  core::Flags flags("gaitforge COMMAND [ARGS] [flags]",
+                    "Evolves gaits and calibrates simulations of soft robots on a gaitforge "
+                    "coordinator and its workers.\n\n" + std::string(kCommands));
+  flags.Add("coordinator", &g.coordinator,
+            "coordinator address host:port (env GAITFORGE_COORDINATOR); empty: local database");
+  flags.Add("db", &g.db, "local SQLite database used without --coordinator");
+  flags.Add("timeout", &g.timeout_s, "deadline of each call, in seconds");
+  flags.AddBool("json", &g.json, "machine-readable JSON output");
+  flags.AddBool("csv", &g.csv, "CSV output (history, hof)");
+  flags.Add("workers", &workers, "local/resume: worker processes to start (default: cores)");
+  flags.Add("threads", &threads, "local/resume: evaluation threads per worker");
+  flags.Add("generation", &generation, "hof/individuals: which generation");
+  if (auto s = flags.Parse(argc, argv); !s.ok()) {
+    std::cerr << "gaitforge: " << s.message() << "\n";
+    return cli::kUsage;
+  }
+  const auto& pos = flags.positional();
+  if (flags.help_requested() || pos.empty()) {
+    std::cout << flags.Help();
+    return pos.empty() && !flags.help_requested() ? cli::kUsage : cli::kOk;
+  }
+  if (workers < 1 || workers > 256 || threads < 1 || threads > 256) {
+    std::cerr << "gaitforge: --workers and --threads must be in [1, 256]\n";
+    return cli::kUsage;
+  }
+  if (g.timeout_s <= 0 || g.timeout_s > 86400) {
+    std::cerr << "gaitforge: --timeout must be in (0, 86400] seconds\n";
+    return cli::kUsage;
+  }
+  const std::string cmd = pos[0];
+  const std::vector<std::string> args(pos.begin() + 1, pos.end());
+  if (cmd == "local") return cli::CmdLocal(g, args, workers, threads);
+  if (cmd == "submit") return cli::CmdSubmit(g, args);
+  if (cmd == "watch") return cli::CmdWatch(g, args);
+  if (cmd == "list") return cli::CmdList(g, args);
+  if (cmd == "show") return cli::CmdShow(g, args);
+  if (cmd == "hof") return cli::CmdHof(g, args, generation, generation >= 0);
+  if (cmd == "history") return cli::CmdHistory(g, args);
+  if (cmd == "individuals") {
+    if (generation < 0) {
+      std::cerr << "gaitforge: individuals needs --generation G\n";
+      return cli::kUsage;
+    }
+    return cli::CmdIndividuals(g, args, generation);
+  }
+  if (cmd == "resume") return cli::CmdResume(g, args, workers, threads);
+  if (cmd == "cancel") return cli::CmdCancel(g, args);
+  std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << kCommands;
+  return cli::kUsage;
+}

@@ -1,0 +1,104 @@
+#include "clients/cli/processes.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+namespace gaitforge::cli {
+
+std::string SiblingBinary(const std::string& name) {
+  std::error_code ec;
+  auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    auto candidate = self.parent_path() / name;
+    if (std::filesystem::exists(candidate)) return candidate.string();
+  }
+  return name;
+}
+
+pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
+  pid_t pid = fork();
+  if (pid != 0) return pid;
+  // Child: own process group member of ours; signals from the terminal reach it too.
+  int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd >= 0) {
+    dup2(fd, 1);
+    dup2(fd, 2);
+    close(fd);
+  }
+  int devnull = open("/dev/null", O_RDONLY);
+  if (devnull >= 0) dup2(devnull, 0);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  sigset_t none;
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, nullptr);
+  execvp(args[0], args.data());
+  _exit(127);
+}
+
+void Stop(pid_t pid, double grace_s) {
+  if (pid <= 0) return;
+  kill(pid, SIGTERM);
+  const auto until = std::chrono::steady_clock::now() +
+                     std::chrono::milliseconds(static_cast<int>(grace_s * 1000));
+  while (std::chrono::steady_clock::now() < until) {
+    int status;
+    if (waitpid(pid, &status, WNOHANG) == pid) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid, SIGKILL);
+  int status;
+  waitpid(pid, &status, 0);
+}
+
+int WaitForPortFile(const std::string& path, pid_t pid, double timeout_s) {
+  const auto until = std::chrono::steady_clock::now() +
+                     std::chrono::milliseconds(static_cast<int>(timeout_s * 1000));
+  while (std::chrono::steady_clock::now() < until) {
+    std::ifstream in(path);
+    int port = 0;
+    if (in >> port && port > 0) return port;
+    int status;
+    if (waitpid(pid, &status, WNOHANG) == pid) return -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return -1;
+}
+
+pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
+                       std::string* target, std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(log_dir, ec);
+  const std::string port_file =
+      (std::filesystem::path(log_dir) / ("coordinator-" + std::to_string(getpid()) + ".port"))
+          .string();
+  std::filesystem::remove(port_file, ec);
+  std::vector<std::string> argv = {SiblingBinary("gaitforge-coordinator"), "--listen",
+                                   "127.0.0.1:0", "--db", db, "--port-file", port_file};
+  if (read_only) argv.push_back("--read-only");
+  const std::string log = (std::filesystem::path(log_dir) / "coordinator.log").string();
+  pid_t pid = Spawn(argv, log);
+  if (pid < 0) {
+    *error = "cannot start gaitforge-coordinator";
+    return -1;
+  }
+  const int port = WaitForPortFile(port_file, pid, 30);
+  std::filesystem::remove(port_file, ec);
+  if (port < 0) {
+    Stop(pid, 1);
+    *error = "gaitforge-coordinator did not start; see " + log;
+    return -1;
+  }
+  *target = "127.0.0.1:" + std::to_string(port);
+  return pid;
+}
+
+}  // namespace gaitforge::cli

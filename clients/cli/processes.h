@@ -1,0 +1,23 @@
+#pragma once
+// Child processes of `gaitforge local`: the coordinator and the workers.
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace gaitforge::cli {
+
+// Path of a binary next to this one (build/bin or the install prefix), else its bare
+// name (found on PATH).
+std::string SiblingBinary(const std::string& name);
+// Starts argv[0] with stdout and stderr appended to log_path. Returns the pid, or -1.
+pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path);
+// SIGTERM, then SIGKILL after grace_s; reaps the child.
+void Stop(pid_t pid, double grace_s);
+// Waits for the coordinator's --port-file; returns the port or -1 (child died or timeout).
+int WaitForPortFile(const std::string& path, pid_t pid, double timeout_s);
+// Starts a coordinator on db, listening on loopback; returns its pid and "127.0.0.1:port".
+pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
+                       std::string* target, std::string* error);
+
+}  // namespace gaitforge::cli

@@ -1,0 +1,480 @@
+#include "services/coordinator/coordinator.h"
+
+#include <google/protobuf/util/json_util.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "absl/strings/str_cat.h"
+#include "services/engines/ga/ga_engine.h"
+#include "services/spec/spec_validation.h"
+
+namespace gaitforge::coordinator {
+namespace {
+
+std::string NewStudyId(const std::string& name) {
+  std::string slug;
+  for (char c : name) {
+    if (std::isalnum(static_cast<unsigned char>(c))) slug += static_cast<char>(std::tolower(c));
+    else if (!slug.empty() && slug.back() != '-') slug += '-';
+    if (slug.size() >= 32) break;
+  }
+  while (!slug.empty() && slug.back() == '-') slug.pop_back();
+  if (slug.empty()) slug = "study";
+  std::random_device rd;
+  return absl::StrCat(slug, "-", absl::Hex(rd() & 0xffffff, absl::kZeroPad6));
+}
+
+uint32_t NewEpoch() {
+  std::random_device rd;
+  uint32_t e = rd();
+  return e == 0 ? 1 : e;
+}
+
+}  // namespace
+
+Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
+                         core::Clock& clock)
+    : store_(std::move(store)),
+      options_(options),
+      clock_(clock),
+      queue_(clock, queue::QueueOptions{options.lease_ms, options.max_attempts,
+                                        options.backup_after_ms},
+             NewEpoch()) {}
+
+Coordinator::~Coordinator() { Shutdown(); }
+
+absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
+    const v1::StudySpec& spec) {
+  engines::ga::GaConfig c;
+  c.seed = spec.seed();
+  c.population = spec.population();
+  c.generations = spec.generations();
+  c.elite = spec.ga().elite();
+  c.mutation_rate = spec.ga().mutation_rate();
+  for (const auto& b : spec.bounds()) {
+    c.bounds.lo.push_back(b.lo());
+    c.bounds.hi.push_back(b.hi());
+  }
+  auto engine = engines::ga::GaEngine::Create(c);
+  if (!engine.ok()) return engine.status();
+  return std::unique_ptr<engines::Engine>(std::move(*engine));
+}
+
+absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
+  if (options_.read_only)
+    return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
+  spec::ApplyDefaults(&spec);
+  if (auto s = spec::ValidationStatus(spec::Validate(spec)); !s.ok()) return s;
+  auto engine = MakeEngine(spec);
+  if (!engine.ok()) return engine.status();
+
+  storage::StudyRecord r;
+  r.study_id = NewStudyId(spec.name());
+  r.name = spec.name();
+  r.spec = spec.SerializeAsString();
+  google::protobuf::util::JsonPrintOptions jo;
+  jo.preserve_proto_field_names = true;
+  (void)google::protobuf::util::MessageToJsonString(spec, &r.spec_json, jo);
+  r.state = "running";
+  r.generations_total = spec.generations();
+  r.created_ms = r.updated_ms = clock_.UnixMs();
+  // Durable before the client hears of it.
+  if (auto s = store_->CreateStudy(r).get(); !s.ok()) return s;
+
+  std::lock_guard<std::mutex> l(mu_);
+  auto study = std::make_unique<Study>();
+  study->id = r.study_id;
+  study->record = r;
+  study->spec = std::move(spec);
+  study->engine = std::move(*engine);
+  Study& s = *study;
+  studies_[r.study_id] = std::move(study);
+  spdlog::info("study {} created: {} x {}, objective {}", s.id, s.spec.population(),
+               s.spec.generations(), s.spec.objective().name());
+  StartGeneration(s, {});
+  Bump();
+  return Summarize(s.record);
+}
+
+absl::Status Coordinator::RecoverStudies() {
+  if (options_.read_only) return absl::OkStatus();
+  auto all = store_->ListStudies();
+  if (!all.ok()) return all.status();
+  for (const auto& r : *all) {
+    if (r.state != "running") continue;
+    if (auto s = Activate(r); !s.ok()) {
+      spdlog::error("study {}: cannot resume: {}", r.study_id, std::string(s.message()));
+      std::lock_guard<std::mutex> l(mu_);
+      WatchWrite(store_->SetStudyState(r.study_id, "failed", std::string(s.message())),
+                 r.study_id);
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status Coordinator::Activate(const storage::StudyRecord& record) {
+  auto study = std::make_unique<Study>();
+  study->id = record.study_id;
+  study->record = record;
+  if (!study->spec.ParseFromString(record.spec))
+    return absl::DataLossError("stored spec does not parse");
+  auto engine = MakeEngine(study->spec);
+  if (!engine.ok()) return engine.status();
+  study->engine = std::move(*engine);
+  auto latest = store_->LatestEngineState(record.study_id);
+  if (!latest.ok()) return latest.status();
+  if (*latest) {
+    if (auto s = study->engine->LoadState((*latest)->second); !s.ok()) return s;
+    if (study->engine->generation() != (*latest)->first + 1)
+      return absl::DataLossError("engine state does not match its generation");
+  }
+  study->evaluations = record.evaluations;
+  std::vector<storage::IndividualRecord> stored;
+  if (!study->engine->Done()) {
+    auto rows = store_->Individuals(record.study_id, study->engine->generation());
+    if (!rows.ok()) return rows.status();
+    stored = std::move(*rows);
+  }
+  std::lock_guard<std::mutex> l(mu_);
+  Study& s = *study;
+  studies_[record.study_id] = std::move(study);
+  if (s.engine->Done()) {
+    SetState(s, "completed", "");
+    return absl::OkStatus();
+  }
+  spdlog::info("study {} resumed at generation {} ({} results already stored)", s.id,
+               s.engine->generation(), stored.size());
+  StartGeneration(s, stored);
+  Bump();
+  return absl::OkStatus();
+}
+
+void Coordinator::StartGeneration(Study& s, const std::vector<storage::IndividualRecord>& stored) {
+  const auto& cands = s.engine->Ask();
+  const int g = s.engine->generation();
+  s.results.assign(cands.size(), std::nullopt);
+  s.remaining = static_cast<int>(cands.size());
+  for (const auto& c : cands) {
+    if (c.known) {
+      Result r;
+      r.evaluation.set_valid(c.known->valid);
+      r.evaluation.set_fitness(c.known->fitness);
+      r.evaluation.set_reason(c.known->reason);
+      r.carried = true;
+      s.results[c.member] = std::move(r);
+      --s.remaining;
+    }
+  }
+  // Results committed before a restart are never evaluated again.
+  for (const auto& row : stored) {
+    if (row.carried || row.member < 0 || row.member >= static_cast<int>(cands.size())) continue;
+    if (s.results[row.member] || row.genes != cands[row.member].genes) continue;
+    Result r;
+    r.evaluation.set_valid(row.valid);
+    r.evaluation.set_fitness(row.fitness);
+    r.evaluation.set_reason(row.reason);
+    for (const auto& [k, v] : row.metrics) (*r.evaluation.mutable_metrics())[k] = v;
+    r.worker_id = row.worker_id;
+    r.eval_seconds = row.eval_seconds;
+    s.results[row.member] = std::move(r);
+    --s.remaining;
+    ++s.evaluations;
+  }
+  for (const auto& c : cands) {
+    if (!s.results[c.member]) queue_.Add(queue::JobKey{s.id, g, c.member});
+  }
+  if (s.remaining == 0) {
+    CompleteGeneration(s);
+    return;
+  }
+  work_cv_.notify_all();
+}
+
+void Coordinator::Accept(Study& s, int member, Result result,
+                         std::vector<storage::IndividualRecord>* out) {
+  const auto& cand = s.engine->Ask()[member];
+  storage::IndividualRecord row;
+  row.study_id = s.id;
+  row.generation = s.engine->generation();
+  row.member = member;
+  row.genes = cand.genes;
+  row.valid = result.evaluation.valid();
+  row.fitness = result.evaluation.fitness();
+  row.reason = result.evaluation.reason();
+  for (const auto& [k, v] : result.evaluation.metrics()) row.metrics[k] = v;
+  row.worker_id = result.worker_id;
+  row.eval_seconds = result.eval_seconds;
+  row.origin_generation = row.generation;
+  row.origin_member = member;
+  row.reported_ms = clock_.UnixMs();
+  out->push_back(std::move(row));
+  s.results[member] = std::move(result);
+  --s.remaining;
+  ++s.evaluations;
+  s.rate.emplace_back(clock_.NowMs(), s.evaluations);
+  while (s.rate.size() > 2 && s.rate.front().first < clock_.NowMs() - 10000) s.rate.pop_front();
+}
+
+void Coordinator::CompleteGeneration(Study& s) {
+  const int g = s.engine->generation();
+  const auto cands = s.engine->Ask();  // copy: Tell replaces them
+  std::vector<engines::Evaluation> evals(cands.size());
+  storage::GenerationRecord rec;
+  rec.study_id = s.id;
+  rec.generation = g;
+  double sum = 0, sum2 = 0, best = -INFINITY;
+  int valid = 0;
+  for (size_t m = 0; m < cands.size(); ++m) {
+    const Result& r = *s.results[m];
+    evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason()};
+    if (r.carried) {
+      storage::IndividualRecord row;
+      row.study_id = s.id;
+      row.generation = g;
+      row.member = static_cast<int>(m);
+      row.genes = cands[m].genes;
+      row.valid = r.evaluation.valid();
+      row.fitness = r.evaluation.fitness();
+      row.reason = r.evaluation.reason();
+      row.carried = true;
+      row.origin_generation = cands[m].origin_generation;
+      row.origin_member = cands[m].origin_member;
+      row.reported_ms = clock_.UnixMs();
+      rec.carried.push_back(std::move(row));
+    } else {
+      ++rec.evaluations;
+    }
+    if (!r.evaluation.valid()) {
+      ++rec.invalid;
+      continue;
+    }
+    ++valid;
+    sum += r.evaluation.fitness();
+    sum2 += r.evaluation.fitness() * r.evaluation.fitness();
+    best = std::max(best, r.evaluation.fitness());
+  }
+  rec.best = valid ? best : NAN;
+  rec.mean = valid ? sum / valid : NAN;
+  rec.stddev = valid ? std::sqrt(std::max(0.0, sum2 / valid - rec.mean * rec.mean)) : NAN;
+  // Diversity: mean over genes of the population's std, in units of the gene's range.
+  double div = 0;
+  const int n_genes = s.spec.bounds_size();
+  for (int i = 0; i < n_genes; ++i) {
+    double m1 = 0, m2 = 0;
+    for (const auto& c : cands) {
+      m1 += c.genes[i];
+      m2 += c.genes[i] * c.genes[i];
+    }
+    m1 /= cands.size();
+    const double var = std::max(0.0, m2 / cands.size() - m1 * m1);
+    div += std::sqrt(var) / (s.spec.bounds(i).hi() - s.spec.bounds(i).lo());
+  }
+  rec.diversity = n_genes ? div / n_genes : 0;
+
+  if (auto st = s.engine->Tell(evals); !st.ok()) {
+    spdlog::error("study {}: engine rejected generation {}: {}", s.id, g, std::string(st.message()));
+    queue_.RemoveStudy(s.id);
+    SetState(s, "failed", absl::StrCat("engine: ", st.message()));
+    return;
+  }
+  for (const auto& h : s.engine->HallOfFame()) {
+    rec.hall_of_fame.push_back(storage::HofRecord{static_cast<int>(rec.hall_of_fame.size()),
+                                                  h.generation, h.member, h.genes, h.eval.valid,
+                                                  h.eval.fitness});
+  }
+  rec.engine_state = s.engine->SaveState();
+  rec.committed_ms = clock_.UnixMs();
+  rec.study_state = s.engine->Done() ? "completed" : "running";
+  rec.study_evaluations = s.evaluations;
+
+  s.record.generations_done = g + 1;
+  s.record.best_fitness = rec.hall_of_fame.empty() || !rec.hall_of_fame[0].valid
+                              ? std::nullopt
+                              : std::optional<double>(rec.hall_of_fame[0].fitness);
+  s.record.mean_fitness = valid ? std::optional<double>(rec.mean) : std::nullopt;
+  s.record.evaluations = s.evaluations;
+  s.record.state = rec.study_state;
+  s.record.updated_ms = rec.committed_ms;
+  spdlog::debug("study {} generation {} done: best {} mean {}", s.id, g, rec.best, rec.mean);
+  WatchWrite(store_->CommitGeneration(std::move(rec)), s.id);
+  queue_.RemoveGeneration(s.id, g);
+  Bump();
+  if (s.engine->Done()) {
+    spdlog::info("study {} completed after {} generations, best fitness {}", s.id, g + 1,
+                 s.record.best_fitness.value_or(NAN));
+    return;
+  }
+  StartGeneration(s, {});
+}
+
+void Coordinator::SetState(Study& s, const std::string& state, const std::string& error) {
+  s.record.state = state;
+  s.record.error = error;
+  s.record.updated_ms = clock_.UnixMs();
+  WatchWrite(store_->SetStudyState(s.id, state, error), s.id);
+  Bump();
+}
+
+void Coordinator::WatchWrite(std::future<absl::Status> f, const std::string& study_id) {
+  writes_.emplace_back(study_id, std::move(f));
+}
+
+void Coordinator::Bump() {
+  ++version_;
+  change_cv_.notify_all();
+}
+
+int64_t Coordinator::WaitForChange(int64_t seen, int timeout_ms) {
+  std::unique_lock<std::mutex> l(mu_);
+  change_cv_.wait_for(l, std::chrono::milliseconds(timeout_ms),
+                      [&] { return version_ != seen || shutdown_; });
+  return version_;
+}
+
+absl::StatusOr<storage::StudyRecord> Coordinator::Record(const std::string& id) {
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    auto it = studies_.find(id);
+    if (it != studies_.end()) return it->second->record;
+  }
+  return store_->GetStudy(id);
+}
+
+absl::StatusOr<v1::StudySummary> Coordinator::GetStudy(const std::string& id) {
+  auto r = Record(id);
+  if (!r.ok()) return r.status();
+  return Summarize(*r);
+}
+
+absl::StatusOr<std::vector<v1::StudySummary>> Coordinator::ListStudies() {
+  auto all = store_->ListStudies();
+  if (!all.ok()) return all.status();
+  std::vector<v1::StudySummary> out;
+  std::lock_guard<std::mutex> l(mu_);
+  for (const auto& r : *all) {
+    auto it = studies_.find(r.study_id);
+    out.push_back(Summarize(it != studies_.end() ? it->second->record : r));
+  }
+  return out;
+}
+
+absl::StatusOr<v1::StudySummary> Coordinator::ResumeStudy(const std::string& id) {
+  if (options_.read_only)
+    return absl::FailedPreconditionError("this coordinator is read-only; it resumes nothing");
+  auto r = Record(id);
+  if (!r.ok()) return r.status();
+  if (r->state == "completed")
+    return absl::FailedPreconditionError(absl::StrCat("study '", id, "' is already completed"));
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    auto it = studies_.find(id);
+    if (it != studies_.end() && it->second->record.state == "running") return Summarize(r.value());
+    if (it != studies_.end()) studies_.erase(it);
+  }
+  if (auto s = store_->SetStudyState(id, "running", "").get(); !s.ok()) return s;
+  r->state = "running";
+  r->error.clear();
+  if (auto s = Activate(*r); !s.ok()) return s;
+  return GetStudy(id);
+}
+
+absl::StatusOr<v1::StudySummary> Coordinator::CancelStudy(const std::string& id) {
+  auto r = Record(id);
+  if (!r.ok()) return r.status();
+  if (r->state == "completed" || r->state == "cancelled")
+    return absl::FailedPreconditionError(
+        absl::StrCat("study '", id, "' is already ", r->state, "; nothing to cancel"));
+  std::future<absl::Status> done;
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    queue_.RemoveStudy(id);
+    auto it = studies_.find(id);
+    if (it != studies_.end()) {
+      it->second->record.state = "cancelled";
+      it->second->record.updated_ms = clock_.UnixMs();
+    }
+    done = store_->SetStudyState(id, "cancelled", "");
+    Bump();
+  }
+  if (auto s = done.get(); !s.ok()) return s;
+  return GetStudy(id);
+}
+
+absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::string& id,
+                                                                  std::optional<int> generation) {
+  if (auto f = store_->Flush(); !f.ok()) return f;
+  auto hof = store_->HallOfFame(id, generation);
+  if (!hof.ok()) return hof.status();
+  v1::GetHallOfFameResponse out;
+  out.set_generation(hof->first);
+  for (const auto& h : hof->second) {
+    auto* e = out.add_entries();
+    e->set_rank(h.rank);
+    auto* ind = e->mutable_individual();
+    ind->set_generation(h.origin_generation);
+    ind->set_member(h.origin_member);
+    for (double x : h.genes) ind->add_genes(x);
+    ind->mutable_evaluation()->set_valid(h.valid);
+    ind->mutable_evaluation()->set_fitness(h.fitness);
+  }
+  return out;
+}
+
+absl::StatusOr<v1::GetHistoryResponse> Coordinator::History(const std::string& id) {
+  if (auto f = store_->Flush(); !f.ok()) return f;
+  auto gens = store_->History(id);
+  if (!gens.ok()) return gens.status();
+  v1::GetHistoryResponse out;
+  for (const auto& g : *gens) {
+    auto* s = out.add_generations();
+    s->set_generation(g.generation);
+    s->set_best(g.best);
+    s->set_mean(g.mean);
+    s->set_stddev(g.stddev);
+    s->set_diversity(g.diversity);
+    s->set_evaluations(g.evaluations);
+    s->set_invalid(g.invalid);
+    s->set_committed_unix_ms(g.committed_ms);
+  }
+  return out;
+}
+
+absl::StatusOr<v1::ListIndividualsResponse> Coordinator::Individuals(const std::string& id,
+                                                                     int generation) {
+  if (auto f = store_->Flush(); !f.ok()) return f;
+  auto rows = store_->Individuals(id, generation);
+  if (!rows.ok()) return rows.status();
+  v1::ListIndividualsResponse out;
+  for (const auto& r : *rows) {
+    auto* ind = out.add_individuals();
+    ind->set_generation(r.generation);
+    ind->set_member(r.member);
+    for (double x : r.genes) ind->add_genes(x);
+    ind->mutable_evaluation()->set_valid(r.valid);
+    ind->mutable_evaluation()->set_fitness(r.fitness);
+    ind->mutable_evaluation()->set_reason(r.reason);
+    for (const auto& [k, v] : r.metrics) (*ind->mutable_evaluation()->mutable_metrics())[k] = v;
+    ind->set_worker_id(r.worker_id);
+    ind->set_eval_seconds(r.eval_seconds);
+    ind->set_carried(r.carried);
+  }
+  return out;
+}
+
+absl::StatusOr<std::pair<v1::Progress, int64_t>> Coordinator::Progress(const std::string& id) {
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    auto it = studies_.find(id);
+    if (it != studies_.end())
+      return std::make_pair(MakeProgress(it->second.get(), it->second->record), version_);
+  }
+  auto r = store_->GetStudy(id);
+  if (!r.ok()) return r.status();
+  std::lock_guard<std::mutex> l(mu_);
+  return std::make_pair(MakeProgress(nullptr, *r), version_);
+}
+
+}  // namespace gaitforge::coordinator

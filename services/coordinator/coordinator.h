@@ -1,0 +1,130 @@
+#pragma once
+// The coordinator's domain logic: a study is an engine + the job queue + the store.
+//
+// Flow of one generation: Ask() -> jobs in the queue -> workers Lease/Report -> when every
+// member has a result, Tell() (evaluations sorted by member) -> one store transaction with
+// the generation, engine state and hall of fame -> the next Ask().
+// Thread-safe: every public method takes mu_. gRPC adapters (study_service.h,
+// worker_service.h) only convert messages and statuses.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "gaitforge/v1/study.pb.h"
+#include "gaitforge/v1/worker.pb.h"
+#include "services/core/clock.h"
+#include "services/engines/engine.h"
+#include "services/queue/job_queue.h"
+#include "storage/study_store.h"
+
+namespace gaitforge::coordinator {
+
+struct CoordinatorOptions {
+  // Lease length; a heartbeat renews it. Default 10 s.
+  int64_t lease_ms = 10000;
+  // Leases a job may lose (expire) before it is closed as poisoned.
+  int max_attempts = 3;
+  // Backup copies of stragglers after this long (0: never).
+  int64_t backup_after_ms = 2000;
+  // Serve reads only: do not resume running studies, refuse new ones.
+  bool read_only = false;
+  // Shown in StudySummary.db_path.
+  std::string db_path;
+};
+
+class Coordinator {
+ public:
+  Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
+              core::Clock& clock);
+  ~Coordinator();
+  Coordinator(const Coordinator&) = delete;
+  Coordinator& operator=(const Coordinator&) = delete;
+
+  // Resumes every study the database says is running (after a restart).
+  absl::Status RecoverStudies();
+
+  // StudyService.
+  absl::StatusOr<v1::StudySummary> CreateStudy(v1::StudySpec spec);
+  absl::StatusOr<v1::StudySummary> GetStudy(const std::string& id);
+  absl::StatusOr<std::vector<v1::StudySummary>> ListStudies();
+  absl::StatusOr<v1::StudySummary> ResumeStudy(const std::string& id);
+  absl::StatusOr<v1::StudySummary> CancelStudy(const std::string& id);
+  absl::StatusOr<v1::GetHallOfFameResponse> HallOfFame(const std::string& id,
+                                                       std::optional<int> generation);
+  absl::StatusOr<v1::GetHistoryResponse> History(const std::string& id);
+  absl::StatusOr<v1::ListIndividualsResponse> Individuals(const std::string& id, int generation);
+  // Current progress and a version that changes with every commit or state change.
+  absl::StatusOr<std::pair<v1::Progress, int64_t>> Progress(const std::string& id);
+  // Blocks until the version differs from `seen`, or timeout. Returns the new version.
+  int64_t WaitForChange(int64_t seen, int timeout_ms);
+
+  // WorkerService.
+  absl::StatusOr<v1::LeaseResponse> Lease(const v1::LeaseRequest& request);
+  absl::StatusOr<v1::ReportResponse> Report(const v1::ReportRequest& request);
+  absl::StatusOr<v1::HeartbeatResponse> Heartbeat(const v1::HeartbeatRequest& request);
+
+  // Expires leases, closes poisoned jobs, surfaces storage failures. Called periodically.
+  void Tick();
+  // Wakes long polls; waits for every write.
+  void Shutdown();
+
+  queue::QueueCounters QueueStats();
+
+ private:
+  struct Result {
+    v1::Evaluation evaluation;
+    std::string worker_id;
+    double eval_seconds = 0;
+    bool carried = false;
+  };
+  struct Study {
+    std::string id;
+    storage::StudyRecord record;  // live copy of the studies row
+    v1::StudySpec spec;
+    std::unique_ptr<engines::Engine> engine;
+    std::vector<std::optional<Result>> results;  // current generation, by member
+    int remaining = 0;
+    int64_t evaluations = 0;  // distinct evaluated jobs, all generations
+    std::deque<std::pair<int64_t, int64_t>> rate;  // (ms, evaluations) samples
+  };
+
+  absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
+  // Loads a study's engine from its last committed generation and schedules its jobs.
+  absl::Status Activate(const storage::StudyRecord& record);
+  void StartGeneration(Study& s, const std::vector<storage::IndividualRecord>& stored);
+  void CompleteGeneration(Study& s);
+  void Accept(Study& s, int member, Result result, std::vector<storage::IndividualRecord>* out);
+  v1::StudySummary Summarize(const storage::StudyRecord& r) const;
+  v1::Progress MakeProgress(const Study* s, const storage::StudyRecord& r) const;
+  absl::StatusOr<storage::StudyRecord> Record(const std::string& id);  // memory, else store
+  void SetState(Study& s, const std::string& state, const std::string& error);
+  void Bump();
+  int FairShare(int requested) const;
+  void WatchWrite(std::future<absl::Status> f, const std::string& study_id);
+
+  std::unique_ptr<storage::StudyStore> store_;
+  const CoordinatorOptions options_;
+  core::Clock& clock_;
+
+  mutable std::mutex mu_;
+  std::condition_variable work_cv_;    // jobs became available, or shutdown
+  std::condition_variable change_cv_;  // version_ changed
+  // Studies this process scheduled, running or ended since; their record is authoritative
+  // (the store may lag by the writes in flight). Jobs are only scheduled for running ones.
+  std::map<std::string, std::unique_ptr<Study>> studies_;  // GUARDED_BY(mu_)
+  queue::JobQueue queue_;                                  // GUARDED_BY(mu_)
+  std::map<std::string, int64_t> workers_seen_;            // GUARDED_BY(mu_)
+  std::vector<std::pair<std::string, std::future<absl::Status>>> writes_;  // GUARDED_BY(mu_)
+  int64_t version_ = 0;                                    // GUARDED_BY(mu_)
+  bool shutdown_ = false;                                  // GUARDED_BY(mu_)
+};
+
+}  // namespace gaitforge::coordinator

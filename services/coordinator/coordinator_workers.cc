@@ -1,0 +1,289 @@
+// The worker side of the coordinator: leases, reports, heartbeats, lease expiry.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "services/coordinator/coordinator.h"
+
+namespace gaitforge::coordinator {
+namespace {
+
+constexpr int kMaxJobsPerLease = 1024;
+constexpr int kMaxWaitMs = 10000;
+
+absl::Status CheckWorker(const v1::WorkerInfo& w) {
+  if (w.worker_id().empty() || w.worker_id().size() > 256)
+    return absl::InvalidArgumentError("field 'worker.worker_id' must have 1..256 characters");
+  return absl::OkStatus();
+}
+
+std::string KeyText(const v1::JobKey& k) {
+  return absl::StrCat("(study '", k.study_id(), "', generation ", k.generation(), ", member ",
+                      k.member(), ")");
+}
+
+}  // namespace
+
+absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req) {
+  if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
+  if (req.max_jobs() < 1 || req.max_jobs() > kMaxJobsPerLease)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "field 'max_jobs' = ", req.max_jobs(), " is out of range [1, ", kMaxJobsPerLease, "]"));
+  if (req.wait_ms() < 0 || req.wait_ms() > kMaxWaitMs)
+    return absl::InvalidArgumentError(absl::StrCat("field 'wait_ms' = ", req.wait_ms(),
+                                                   " is out of range [0, ", kMaxWaitMs, "]"));
+  const std::set<std::string> objectives(req.worker().objectives().begin(),
+                                         req.worker().objectives().end());
+  std::unique_lock<std::mutex> l(mu_);
+  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  auto accept = [&](const queue::JobKey& k) {
+    auto it = studies_.find(k.study_id);
+    if (it == studies_.end() || it->second->record.state != "running") return false;
+    return objectives.empty() || objectives.count(it->second->spec.objective().name()) > 0;
+  };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(req.wait_ms());
+  std::vector<queue::Lease> leases;
+  for (;;) {
+    leases = queue_.LeaseJobs(req.worker().worker_id(), FairShare(req.max_jobs()), accept);
+    if (!leases.empty() || shutdown_) break;
+    if (work_cv_.wait_until(l, deadline) == std::cv_status::timeout) {
+      leases = queue_.LeaseJobs(req.worker().worker_id(), FairShare(req.max_jobs()), accept);
+      break;
+    }
+  }
+  v1::LeaseResponse out;
+  out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
+  for (const auto& lease : leases) {
+    const Study& s = *studies_.at(lease.key.study_id);
+    auto* job = out.add_jobs();
+    job->mutable_key()->set_study_id(lease.key.study_id);
+    job->mutable_key()->set_generation(lease.key.generation);
+    job->mutable_key()->set_member(lease.key.member);
+    *job->mutable_objective() = s.spec.objective();
+    for (double x : s.engine->Ask()[lease.key.member].genes) job->add_genes(x);
+    *job->mutable_bounds() = s.spec.bounds();
+    job->set_lease_id(lease.lease_id);
+    job->set_backup(lease.backup);
+  }
+  return out;
+}
+
+int Coordinator::FairShare(int requested) const {
+  // Split what is pending evenly among the workers seen within a lease period, so that one
+  // fast worker does not take a whole generation while others wait.
+  const int64_t now = clock_.NowMs();
+  int64_t active = 0;
+  for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
+  const int64_t pending = static_cast<int64_t>(queue_.pending());
+  const int64_t share = std::max<int64_t>(1, (pending + std::max<int64_t>(active, 1) - 1) /
+                                                 std::max<int64_t>(active, 1));
+  return static_cast<int>(std::min<int64_t>(requested, share));
+}
+
+absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& req) {
+  if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
+  std::lock_guard<std::mutex> l(mu_);
+  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  // Check everything first: all or nothing.
+  enum class Fate { kAccept, kDuplicate };
+  std::vector<Fate> fate;
+  std::vector<std::string> invalid, not_held;
+  std::set<std::tuple<std::string, int, int>> seen;
+  for (const auto& r : req.results()) {
+    const auto& k = r.key();
+    const auto& e = r.evaluation();
+    if (e.valid() && !std::isfinite(e.fitness())) {
+      invalid.push_back(absl::StrCat(KeyText(k), ": field 'evaluation.fitness' = ", e.fitness(),
+                                     " must be finite when valid (report valid = false and a "
+                                     "reason instead)"));
+      continue;
+    }
+    if (!seen.insert({k.study_id(), k.generation(), k.member()}).second) {
+      invalid.push_back(absl::StrCat(KeyText(k), ": reported twice in one call"));
+      continue;
+    }
+    auto it = studies_.find(k.study_id());
+    if (it == studies_.end()) {
+      not_held.push_back(absl::StrCat(KeyText(k), ": no such study is scheduled here"));
+      continue;
+    }
+    const Study& s = *it->second;
+    const int g = s.engine->Done() ? s.record.generations_total : s.engine->generation();
+    if (k.generation() < g || s.record.state != "running") {
+      fate.push_back(Fate::kDuplicate);  // its generation is already committed
+      continue;
+    }
+    if (k.generation() > g || k.member() < 0 || k.member() >= s.spec.population()) {
+      not_held.push_back(absl::StrCat(KeyText(k), ": no such job"));
+      continue;
+    }
+    switch (queue_.Check(req.worker().worker_id(),
+                         queue::JobKey{k.study_id(), k.generation(), k.member()}, r.lease_id())) {
+      case queue::ReportCheck::kOpen:
+        fate.push_back(Fate::kAccept);
+        break;
+      case queue::ReportCheck::kDone:
+        fate.push_back(Fate::kDuplicate);
+        break;
+      case queue::ReportCheck::kNotHeld:
+      case queue::ReportCheck::kUnknown:
+        not_held.push_back(absl::StrCat(KeyText(k), ": worker '", req.worker().worker_id(),
+                                        "' does not hold this job (lease_id ", r.lease_id(),
+                                        ")"));
+        break;
+    }
+  }
+  if (!invalid.empty())
+    return absl::InvalidArgumentError(
+        absl::StrCat("report refused, nothing recorded: ", absl::StrJoin(invalid, "; ")));
+  if (!not_held.empty())
+    return absl::FailedPreconditionError(
+        absl::StrCat("report refused, nothing recorded: ", absl::StrJoin(not_held, "; ")));
+
+  v1::ReportResponse out;
+  std::map<std::string, std::vector<storage::IndividualRecord>> rows;
+  std::set<std::string> finished;
+  for (int i = 0; i < req.results_size(); ++i) {
+    const auto& r = req.results(i);
+    const auto& k = r.key();
+    if (fate[i] == Fate::kDuplicate) {
+      out.set_duplicates(out.duplicates() + 1);
+      queue_.CountDuplicate();
+      continue;
+    }
+    Study& s = *studies_.at(k.study_id());
+    queue_.Complete(queue::JobKey{k.study_id(), k.generation(), k.member()});
+    Result res;
+    res.evaluation = r.evaluation();
+    if (!res.evaluation.valid()) res.evaluation.set_fitness(0);
+    res.worker_id = req.worker().worker_id();
+    res.eval_seconds = r.eval_seconds();
+    Accept(s, k.member(), std::move(res), &rows[s.id]);
+    out.set_accepted(out.accepted() + 1);
+    if (s.remaining == 0) finished.insert(s.id);
+  }
+  for (auto& [id, batch] : rows) WatchWrite(store_->AppendResults(std::move(batch)), id);
+  for (const auto& id : finished) CompleteGeneration(*studies_.at(id));
+  if (out.accepted() > 0) Bump();
+  return out;
+}
+
+absl::StatusOr<v1::HeartbeatResponse> Coordinator::Heartbeat(const v1::HeartbeatRequest& req) {
+  if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
+  std::lock_guard<std::mutex> l(mu_);
+  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  v1::HeartbeatResponse out;
+  out.set_leases_renewed(queue_.Heartbeat(req.worker().worker_id()));
+  out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
+  return out;
+}
+
+void Coordinator::Tick() {
+  std::lock_guard<std::mutex> l(mu_);
+  const auto poisoned = queue_.ExpireLeases();
+  std::map<std::string, std::vector<storage::IndividualRecord>> rows;
+  std::set<std::string> finished;
+  for (const auto& key : poisoned) {
+    auto it = studies_.find(key.study_id);
+    if (it == studies_.end()) continue;
+    Study& s = *it->second;
+    if (s.engine->generation() != key.generation || s.results[key.member]) continue;
+    spdlog::warn("study {} generation {} member {}: poisoned after {} lost leases", s.id,
+                 key.generation, key.member, options_.max_attempts);
+    Result res;
+    res.evaluation.set_valid(false);
+    res.evaluation.set_reason(absl::StrCat("poisoned: ", options_.max_attempts,
+                                           " leases expired without a result"));
+    Accept(s, key.member, std::move(res), &rows[s.id]);
+    if (s.remaining == 0) finished.insert(s.id);
+  }
+  for (auto& [id, batch] : rows) WatchWrite(store_->AppendResults(std::move(batch)), id);
+  for (const auto& id : finished) CompleteGeneration(*studies_.at(id));
+  if (queue_.pending() > 0) work_cv_.notify_all();
+  // Surface failed writes: the study stops rather than run on with a hole in its record.
+  for (auto it = writes_.begin(); it != writes_.end();) {
+    if (it->second.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      ++it;
+      continue;
+    }
+    absl::Status s = it->second.get();
+    if (!s.ok()) {
+      spdlog::error("study {}: write failed: {}", it->first, std::string(s.message()));
+      auto st = studies_.find(it->first);
+      if (st != studies_.end() && st->second->record.state == "running") {
+        queue_.RemoveStudy(it->first);
+        st->second->record.state = "failed";
+        st->second->record.error = absl::StrCat("storage: ", s.message());
+        Bump();
+      }
+    }
+    it = writes_.erase(it);
+  }
+}
+
+void Coordinator::Shutdown() {
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    if (shutdown_) return;
+    shutdown_ = true;
+  }
+  work_cv_.notify_all();
+  change_cv_.notify_all();
+  (void)store_->Flush();
+}
+
+queue::QueueCounters Coordinator::QueueStats() {
+  std::lock_guard<std::mutex> l(mu_);
+  return queue_.counters();
+}
+
+v1::StudySummary Coordinator::Summarize(const storage::StudyRecord& r) const {
+  v1::StudySummary out;
+  out.set_study_id(r.study_id);
+  out.mutable_spec()->ParseFromString(r.spec);
+  static const std::map<std::string, v1::StudyState> states = {
+      {"running", v1::STUDY_STATE_RUNNING},     {"paused", v1::STUDY_STATE_PAUSED},
+      {"cancelled", v1::STUDY_STATE_CANCELLED}, {"completed", v1::STUDY_STATE_COMPLETED},
+      {"failed", v1::STUDY_STATE_FAILED}};
+  auto it = states.find(r.state);
+  out.set_state(it == states.end() ? v1::STUDY_STATE_UNSPECIFIED : it->second);
+  out.set_generations_done(r.generations_done);
+  out.set_best_fitness(r.best_fitness.value_or(NAN));
+  out.set_mean_fitness(r.mean_fitness.value_or(NAN));
+  out.set_evaluations(r.evaluations);
+  out.set_created_unix_ms(r.created_ms);
+  out.set_updated_unix_ms(r.updated_ms);
+  out.set_error(r.error);
+  out.set_db_path(options_.db_path);
+  return out;
+}
+
+v1::Progress Coordinator::MakeProgress(const Study* s, const storage::StudyRecord& r) const {
+  v1::Progress p;
+  const v1::StudySummary sum = Summarize(r);
+  p.set_study_id(r.study_id);
+  p.set_state(sum.state());
+  p.set_generations_done(r.generations_done);
+  p.set_generations_total(r.generations_total);
+  p.set_best(sum.best_fitness());
+  p.set_mean(sum.mean_fitness());
+  p.set_evaluations(s ? s->evaluations : r.evaluations);
+  p.set_error(r.error);
+  if (s && s->rate.size() >= 2) {
+    const auto& [t0, e0] = s->rate.front();
+    const auto& [t1, e1] = s->rate.back();
+    const double rate = t1 > t0 ? 1000.0 * static_cast<double>(e1 - e0) / (t1 - t0) : 0.0;
+    p.set_evals_per_second(rate);
+    const int pop = s->spec.population();
+    const int per_gen = pop - (s->spec.engine() == "ga" ? s->spec.ga().elite() : 0);
+    const double left = static_cast<double>(r.generations_total - r.generations_done) * per_gen;
+    if (rate > 0 && r.state == "running") p.set_eta_seconds(left / rate);
+  }
+  return p;
+}
+
+}  // namespace gaitforge::coordinator

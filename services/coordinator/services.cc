@@ -1,0 +1,120 @@
+#include "services/coordinator/services.h"
+
+#include <thread>
+
+#include "services/coordinator/grpc_status.h"
+
+namespace gaitforge::coordinator {
+namespace {
+
+template <typename T, typename Out>
+grpc::Status Reply(absl::StatusOr<T> r, Out* out) {
+  if (!r.ok()) return ToGrpc(r.status());
+  *out = std::move(*r);
+  return grpc::Status::OK;
+}
+
+grpc::Status NeedId(const std::string& id) {
+  if (id.empty())
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "field 'study_id' is required");
+  return grpc::Status::OK;
+}
+
+}  // namespace
+
+grpc::Status StudyServiceImpl::CreateStudy(grpc::ServerContext*,
+                                           const v1::CreateStudyRequest* req,
+                                           v1::CreateStudyResponse* out) {
+  auto r = c_.CreateStudy(req->spec());
+  if (!r.ok()) return ToGrpc(r.status());
+  *out->mutable_study() = std::move(*r);
+  return grpc::Status::OK;
+}
+
+grpc::Status StudyServiceImpl::GetStudy(grpc::ServerContext*, const v1::GetStudyRequest* req,
+                                        v1::StudySummary* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  return Reply(c_.GetStudy(req->study_id()), out);
+}
+
+grpc::Status StudyServiceImpl::ListStudies(grpc::ServerContext*, const v1::ListStudiesRequest*,
+                                           v1::ListStudiesResponse* out) {
+  auto r = c_.ListStudies();
+  if (!r.ok()) return ToGrpc(r.status());
+  for (auto& s : *r) *out->add_studies() = std::move(s);
+  return grpc::Status::OK;
+}
+
+grpc::Status StudyServiceImpl::WatchStudy(grpc::ServerContext* ctx,
+                                          const v1::WatchStudyRequest* req,
+                                          grpc::ServerWriter<v1::Progress>* writer) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  int64_t sent_version = -1;
+  for (;;) {
+    auto p = c_.Progress(req->study_id());
+    if (!p.ok()) return ToGrpc(p.status());
+    if (p->second != sent_version) {
+      if (!writer->Write(p->first)) return grpc::Status::OK;  // client went away
+      sent_version = p->second;
+    }
+    if (p->first.state() != v1::STUDY_STATE_RUNNING) return grpc::Status::OK;
+    if (ctx->IsCancelled()) return grpc::Status::CANCELLED;
+    // Progress is sent at most every 100 ms, so that fast studies do not flood the stream.
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    c_.WaitForChange(sent_version, 1000);
+  }
+}
+
+grpc::Status StudyServiceImpl::GetHallOfFame(grpc::ServerContext*,
+                                             const v1::GetHallOfFameRequest* req,
+                                             v1::GetHallOfFameResponse* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  std::optional<int> g;
+  if (req->has_generation()) g = req->generation();
+  return Reply(c_.HallOfFame(req->study_id(), g), out);
+}
+
+grpc::Status StudyServiceImpl::GetHistory(grpc::ServerContext*, const v1::GetHistoryRequest* req,
+                                          v1::GetHistoryResponse* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  return Reply(c_.History(req->study_id()), out);
+}
+
+grpc::Status StudyServiceImpl::ListIndividuals(grpc::ServerContext*,
+                                               const v1::ListIndividualsRequest* req,
+                                               v1::ListIndividualsResponse* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  return Reply(c_.Individuals(req->study_id(), req->generation()), out);
+}
+
+grpc::Status StudyServiceImpl::ResumeStudy(grpc::ServerContext*,
+                                           const v1::ResumeStudyRequest* req,
+                                           v1::StudySummary* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  return Reply(c_.ResumeStudy(req->study_id()), out);
+}
+
+grpc::Status StudyServiceImpl::CancelStudy(grpc::ServerContext*,
+                                           const v1::CancelStudyRequest* req,
+                                           v1::StudySummary* out) {
+  if (auto s = NeedId(req->study_id()); !s.ok()) return s;
+  return Reply(c_.CancelStudy(req->study_id()), out);
+}
+
+grpc::Status WorkerServiceImpl::Lease(grpc::ServerContext*, const v1::LeaseRequest* req,
+                                      v1::LeaseResponse* out) {
+  return Reply(c_.Lease(*req), out);
+}
+
+grpc::Status WorkerServiceImpl::Report(grpc::ServerContext*, const v1::ReportRequest* req,
+                                       v1::ReportResponse* out) {
+  return Reply(c_.Report(*req), out);
+}
+
+grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext*,
+                                          const v1::HeartbeatRequest* req,
+                                          v1::HeartbeatResponse* out) {
+  return Reply(c_.Heartbeat(*req), out);
+}
+
+}  // namespace gaitforge::coordinator

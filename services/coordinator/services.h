@@ -1,0 +1,49 @@
+#pragma once
+// Thin gRPC adapters over Coordinator: convert, delegate, convert back.
+#include "gaitforge/v1/study.grpc.pb.h"
+#include "gaitforge/v1/worker.grpc.pb.h"
+#include "services/coordinator/coordinator.h"
+
+namespace gaitforge::coordinator {
+
+class StudyServiceImpl final : public v1::StudyService::Service {
+ public:
+  explicit StudyServiceImpl(Coordinator& c) : c_(c) {}
+  grpc::Status CreateStudy(grpc::ServerContext*, const v1::CreateStudyRequest*,
+                           v1::CreateStudyResponse*) override;
+  grpc::Status GetStudy(grpc::ServerContext*, const v1::GetStudyRequest*,
+                        v1::StudySummary*) override;
+  grpc::Status ListStudies(grpc::ServerContext*, const v1::ListStudiesRequest*,
+                           v1::ListStudiesResponse*) override;
+  grpc::Status WatchStudy(grpc::ServerContext*, const v1::WatchStudyRequest*,
+                          grpc::ServerWriter<v1::Progress>*) override;
+  grpc::Status GetHallOfFame(grpc::ServerContext*, const v1::GetHallOfFameRequest*,
+                             v1::GetHallOfFameResponse*) override;
+  grpc::Status GetHistory(grpc::ServerContext*, const v1::GetHistoryRequest*,
+                          v1::GetHistoryResponse*) override;
+  grpc::Status ListIndividuals(grpc::ServerContext*, const v1::ListIndividualsRequest*,
+                               v1::ListIndividualsResponse*) override;
+  grpc::Status ResumeStudy(grpc::ServerContext*, const v1::ResumeStudyRequest*,
+                           v1::StudySummary*) override;
+  grpc::Status CancelStudy(grpc::ServerContext*, const v1::CancelStudyRequest*,
+                           v1::StudySummary*) override;
+
+ private:
+  Coordinator& c_;
+};
+
+class WorkerServiceImpl final : public v1::WorkerService::Service {
+ public:
+  explicit WorkerServiceImpl(Coordinator& c) : c_(c) {}
+  grpc::Status Lease(grpc::ServerContext*, const v1::LeaseRequest*,
+                     v1::LeaseResponse*) override;
+  grpc::Status Report(grpc::ServerContext*, const v1::ReportRequest*,
+                      v1::ReportResponse*) override;
+  grpc::Status Heartbeat(grpc::ServerContext*, const v1::HeartbeatRequest*,
+                         v1::HeartbeatResponse*) override;
+
+ private:
+  Coordinator& c_;
+};
+
+}  // namespace gaitforge::coordinator

@@ -1,0 +1,60 @@
+#include "services/core/objective_catalog.h"
+
+#include "absl/strings/str_join.h"
+
+namespace gaitforge::core {
+
+const std::vector<GeneRange>& CaterpillarGaitSpace() {
+  static const std::vector<GeneRange> space = {
+      {"a_T1", 0, 1}, {"a_T2", 0, 1}, {"a_T3", 0, 1}, {"a_B1", 0, 1}, {"a_B2", 0, 1},
+      {"a_B3", 0, 1}, {"d_T1", 0, 1}, {"d_T2", 0, 1}, {"d_T3", 0, 1}, {"d_B1", 0, 1},
+      {"d_B2", 0, 1}, {"d_B3", 0, 1}, {"T", 0.2, 2.0},
+  };
+  return space;
+}
+
+namespace {
+
+std::vector<ParamInfo> AnalyticParams() {
+  return {
+      {"work_us", 0, 1e6, 0,
+       "busy compute added to each evaluation, in microseconds (emulates a simulator's cost)"},
+      {"shift", -1, 1, 0.2,
+       "offset of the optimum from the centre of the space, in units of half the range"},
+  };
+}
+
+}  // namespace
+
+const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
+  static const std::vector<ObjectiveInfo> catalog = {
+      {"analytic.sphere",
+       "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
+       AnalyticParams(), CaterpillarGaitSpace(), 0},
+      {"analytic.ellipsoid",
+       "fitness = -sum 1e6^(i/(n-1)) z_i^2 (conditioning 1e6)",
+       AnalyticParams(), CaterpillarGaitSpace(), 0},
+      {"analytic.rosenbrock",
+       "fitness = -sum 100 (z_{i+1} - z_i^2)^2 + (1 - z_i)^2",
+       AnalyticParams(), CaterpillarGaitSpace(), 0},
+      {"analytic.rastrigin",
+       "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
+       AnalyticParams(), CaterpillarGaitSpace(), 0},
+  };
+  return catalog;
+}
+
+const ObjectiveInfo* FindObjective(std::string_view name) {
+  for (const auto& o : ObjectiveCatalog()) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
+std::string ObjectiveNames() {
+  std::vector<std::string> names;
+  for (const auto& o : ObjectiveCatalog()) names.push_back(o.name);
+  return absl::StrJoin(names, ", ");
+}
+
+}  // namespace gaitforge::core

@@ -1,0 +1,45 @@
+#pragma once
+// The catalog of objectives: names, parameters with their allowed ranges, and default
+// search spaces. The coordinator validates specs against it; workers implement the
+// entries (workers/objectives). Documented in docs/objectives.md.
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gaitforge::core {
+
+struct GeneRange {
+  std::string name;
+  double lo;
+  double hi;
+};
+
+struct ParamInfo {
+  std::string name;
+  double lo;
+  double hi;
+  double default_value;
+  std::string meaning;  // with units
+};
+
+struct ObjectiveInfo {
+  std::string name;
+  std::string summary;
+  std::vector<ParamInfo> params;
+  // Space used when a spec gives no bounds.
+  std::vector<GeneRange> default_space;
+  // 0: any number of genes; otherwise exactly this many.
+  int required_genes = 0;
+};
+
+// The 13-gene caterpillar gait of ../shared/robots/caterpillar.md: activation and
+// deactivation phases of T1 T2 T3 B1 B2 B3 in [0, 1), then the period T in [0.2, 2.0] s.
+const std::vector<GeneRange>& CaterpillarGaitSpace();
+
+const std::vector<ObjectiveInfo>& ObjectiveCatalog();
+// nullptr when unknown.
+const ObjectiveInfo* FindObjective(std::string_view name);
+// "a, b, c" of every objective name, for error messages.
+std::string ObjectiveNames();
+
+}  // namespace gaitforge::core

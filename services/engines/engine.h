@@ -1,0 +1,72 @@
+#pragma once
+// The ask/tell shape every optimiser has (after CMA-ES/libcmaes and pagmo2's bfe split):
+// Ask() names the members of the current generation, the coordinator has them evaluated
+// anywhere, Tell() takes the evaluations sorted by member and advances one generation.
+// Engines are pure: no clocks, no threads, no I/O; randomness only from KeyedRng.
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+
+namespace gaitforge::engines {
+
+// Fitness is "higher is better". Invalid evaluations rank below every valid one.
+struct Evaluation {
+  bool valid = false;
+  double fitness = 0.0;
+  std::string reason;
+};
+
+struct Candidate {
+  int member = 0;
+  std::vector<double> genes;
+  // Set when the engine already knows this member's evaluation (a carried-over elite):
+  // the coordinator does not evaluate it again.
+  std::optional<Evaluation> known;
+  // Where `genes` were first evaluated: for a carried member its original generation and
+  // member index; otherwise the current generation and `member`.
+  int origin_generation = 0;
+  int origin_member = 0;
+};
+
+struct Ranked {
+  int generation = 0;  // generation the individual was evaluated in
+  int member = 0;      // its member index in that generation
+  std::vector<double> genes;
+  Evaluation eval;
+};
+
+struct Bounds {
+  std::vector<double> lo;
+  std::vector<double> hi;
+  size_t size() const { return lo.size(); }
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  // Index of the generation Ask() returns; equals the number of Tell() calls so far.
+  virtual int generation() const = 0;
+  virtual bool Done() const = 0;
+  // The members of the current generation; stable until the next Tell().
+  virtual const std::vector<Candidate>& Ask() const = 0;
+  // Evaluations of every member of the current generation, indexed by member. Checks all
+  // inputs before changing any state.
+  virtual absl::Status Tell(const std::vector<Evaluation>& by_member) = 0;
+  // The best individuals seen, best first (the GA's elite of the last told generation).
+  virtual std::vector<Ranked> HallOfFame() const = 0;
+  // Complete state; LoadState(SaveState()) continues bit-identically.
+  virtual std::string SaveState() const = 0;
+  virtual absl::Status LoadState(std::string_view state) = 0;
+};
+
+// Orders members for ranking: valid before invalid, higher fitness first, then lower
+// member index (a total, deterministic order).
+bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int member_b);
+
+}  // namespace gaitforge::engines

@@ -1,0 +1,234 @@
+#include "services/engines/ga/ga_engine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "absl/strings/str_cat.h"
+#include "services/core/byte_codec.h"
+#include "services/core/keyed_rng.h"
+#include "services/engines/ga/ga_operators.h"
+
+namespace gaitforge::engines::ga {
+
+using core::KeyedRng;
+using core::Purpose;
+
+absl::Status ValidateGaConfig(const GaConfig& c) {
+  if (c.population < 2 || c.population > 100000)
+    return absl::InvalidArgumentError(
+        absl::StrCat("population = ", c.population, " is out of range [2, 100000]"));
+  if (c.generations < 1 || c.generations > 100000)
+    return absl::InvalidArgumentError(
+        absl::StrCat("generations = ", c.generations, " is out of range [1, 100000]"));
+  if (c.elite < 0 || c.elite >= c.population)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "ga.elite = ", c.elite, " is out of range [0, population - 1 = ", c.population - 1, "]"));
+  if (!(c.mutation_rate >= 0.0 && c.mutation_rate <= 1.0))
+    return absl::InvalidArgumentError(
+        absl::StrCat("ga.mutation_rate = ", c.mutation_rate, " is out of range [0, 1]"));
+  if (c.bounds.size() == 0 || c.bounds.lo.size() != c.bounds.hi.size())
+    return absl::InvalidArgumentError("bounds: at least one gene with lo and hi is required");
+  for (size_t i = 0; i < c.bounds.size(); ++i) {
+    const double lo = c.bounds.lo[i], hi = c.bounds.hi[i];
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
+      return absl::InvalidArgumentError(absl::StrCat(
+          "bounds[", i, "]: need finite lo < hi, got lo = ", lo, ", hi = ", hi));
+  }
+  return absl::OkStatus();
+}
+
+GaEngine::GaEngine(const GaConfig& config) : config_(config) {}
+
+absl::StatusOr<std::unique_ptr<GaEngine>> GaEngine::Create(const GaConfig& config) {
+  if (auto s = ValidateGaConfig(config); !s.ok()) return s;
+  std::unique_ptr<GaEngine> engine(new GaEngine(config));
+  engine->InitialPopulation();
+  return engine;
+}
+
+void GaEngine::InitialPopulation() {
+  candidates_.clear();
+  for (int m = 0; m < config_.population; ++m) {
+    KeyedRng rng(config_.seed, 0, m, Purpose::kInit);
+    Candidate c;
+    c.member = m;
+    c.origin_generation = 0;
+    c.origin_member = m;
+    c.genes.resize(config_.bounds.size());
+    for (size_t i = 0; i < c.genes.size(); ++i)
+      c.genes[i] = rng.Uniform(config_.bounds.lo[i], config_.bounds.hi[i]);
+    candidates_.push_back(std::move(c));
+  }
+}
+
+int GaEngine::CrossoverPoint(int g) const {
+  const int n_genes = static_cast<int>(config_.bounds.size());
+  if (n_genes < 2) return 0;
+  KeyedRng rng(config_.seed, g, 0, Purpose::kCrossover);
+  return static_cast<int>(rng.UniformInt(1, n_genes - 1));
+}
+
+absl::Status GaEngine::Tell(const std::vector<Evaluation>& evals) {
+  if (Done()) return absl::FailedPreconditionError("GA: Tell after the last generation");
+  if (static_cast<int>(evals.size()) != config_.population)
+    return absl::InvalidArgumentError(absl::StrCat("GA: Tell got ", evals.size(),
+                                                   " evaluations, expected ",
+                                                   config_.population));
+  for (size_t m = 0; m < evals.size(); ++m) {
+    if (evals[m].valid && !std::isfinite(evals[m].fitness))
+      return absl::InvalidArgumentError(
+          absl::StrCat("GA: member ", m, " is valid with non-finite fitness"));
+  }
+  std::vector<int> order(evals.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return RanksBefore(evals[a], a, evals[b], b); });
+
+  hof_.clear();
+  // The hall of fame reports at least the best member even with elite = 0.
+  const int hof_size = std::max(config_.elite, 1);
+  for (int r = 0; r < hof_size; ++r) {
+    const Candidate& c = candidates_[order[r]];
+    hof_.push_back(Ranked{c.origin_generation, c.origin_member, c.genes, evals[order[r]]});
+  }
+  ++generation_;
+  if (Done()) {
+    candidates_.clear();
+    return absl::OkStatus();
+  }
+  Breed(evals, order);
+  return absl::OkStatus();
+}
+
+void GaEngine::Breed(const std::vector<Evaluation>& evals, const std::vector<int>& order) {
+  const int g = generation_;  // the generation being created
+  std::vector<Candidate> next;
+  next.reserve(config_.population);
+  for (int r = 0; r < config_.elite; ++r) {
+    const Candidate& parent = candidates_[order[r]];
+    Candidate c;
+    c.member = r;
+    c.genes = parent.genes;
+    c.known = evals[order[r]];
+    c.origin_generation = parent.origin_generation;
+    c.origin_member = parent.origin_member;
+    next.push_back(std::move(c));
+  }
+  const std::vector<double> weights = RouletteWeights(evals);
+  const int n = CrossoverPoint(g);
+  for (int first = config_.elite; first < config_.population; first += 2) {
+    KeyedRng select(config_.seed, g, first, Purpose::kSelect);
+    const int pa = RouletteSelect(weights, select);
+    const int pb = RouletteSelect(weights, select);
+    std::vector<double> a = candidates_[pa].genes;
+    std::vector<double> b = candidates_[pb].genes;
+    SwapPrefix(a, b, n);
+    for (int k = 0; k < 2 && first + k < config_.population; ++k) {
+      Candidate c;
+      c.member = first + k;
+      c.genes = k == 0 ? std::move(a) : std::move(b);
+      KeyedRng mutate(config_.seed, g, c.member, Purpose::kMutate);
+      MutateReinit(c.genes, config_.bounds, config_.mutation_rate, mutate);
+      c.origin_generation = g;
+      c.origin_member = c.member;
+      next.push_back(std::move(c));
+    }
+  }
+  candidates_ = std::move(next);
+}
+
+namespace {
+constexpr uint32_t kStateMagic = 0x31414147;  // "GAA1"
+
+void WriteEval(core::ByteWriter& w, const Evaluation& e) {
+  w.U32(e.valid ? 1 : 0);
+  w.F64(e.fitness);
+  w.Str(e.reason);
+}
+
+Evaluation ReadEval(core::ByteReader& r) {
+  Evaluation e;
+  e.valid = r.U32() != 0;
+  e.fitness = r.F64();
+  e.reason = r.Str();
+  return e;
+}
+}  // namespace
+
+std::string GaEngine::SaveState() const {
+  core::ByteWriter w;
+  w.U32(kStateMagic);
+  w.U64(config_.seed);
+  w.U32(config_.population);
+  w.U32(config_.generations);
+  w.U32(config_.elite);
+  w.F64(config_.mutation_rate);
+  w.F64s(config_.bounds.lo);
+  w.F64s(config_.bounds.hi);
+  w.U32(generation_);
+  w.U64(candidates_.size());
+  for (const auto& c : candidates_) {
+    w.U32(c.member);
+    w.F64s(c.genes);
+    w.U32(c.known ? 1 : 0);
+    if (c.known) WriteEval(w, *c.known);
+    w.U32(c.origin_generation);
+    w.U32(c.origin_member);
+  }
+  w.U64(hof_.size());
+  for (const auto& h : hof_) {
+    w.U32(h.generation);
+    w.U32(h.member);
+    w.F64s(h.genes);
+    WriteEval(w, h.eval);
+  }
+  return w.data();
+}
+
+absl::Status GaEngine::LoadState(std::string_view state) {
+  core::ByteReader r(state);
+  if (r.U32() != kStateMagic) return absl::DataLossError("GA state: wrong magic number");
+  GaConfig c;
+  c.seed = r.U64();
+  c.population = static_cast<int>(r.U32());
+  c.generations = static_cast<int>(r.U32());
+  c.elite = static_cast<int>(r.U32());
+  c.mutation_rate = r.F64();
+  c.bounds.lo = r.F64s();
+  c.bounds.hi = r.F64s();
+  if (c.seed != config_.seed || c.population != config_.population ||
+      c.generations != config_.generations || c.elite != config_.elite ||
+      c.mutation_rate != config_.mutation_rate || c.bounds.lo != config_.bounds.lo ||
+      c.bounds.hi != config_.bounds.hi)
+    return absl::FailedPreconditionError("GA state belongs to a different configuration");
+  const int generation = static_cast<int>(r.U32());
+  const uint64_t n_candidates = r.U64();
+  if (n_candidates > static_cast<uint64_t>(c.population))
+    return absl::DataLossError("GA state: more candidates than the population");
+  std::vector<Candidate> candidates(n_candidates);
+  for (auto& cand : candidates) {
+    cand.member = static_cast<int>(r.U32());
+    cand.genes = r.F64s();
+    if (r.U32() != 0) cand.known = ReadEval(r);
+    cand.origin_generation = static_cast<int>(r.U32());
+    cand.origin_member = static_cast<int>(r.U32());
+  }
+  const uint64_t n_hof = r.U64();
+  if (n_hof > static_cast<uint64_t>(c.population))
+    return absl::DataLossError("GA state: hall of fame larger than the population");
+  std::vector<Ranked> hof(n_hof);
+  for (auto& h : hof) {
+    h.generation = static_cast<int>(r.U32());
+    h.member = static_cast<int>(r.U32());
+    h.genes = r.F64s();
+    h.eval = ReadEval(r);
+  }
+  if (auto s = r.status("GA state"); !s.ok()) return s;
+  generation_ = generation;
+  candidates_ = std::move(candidates);
+  hof_ = std::move(hof);
+  return absl::OkStatus();
+}
+
+}  // namespace gaitforge::engines::ga

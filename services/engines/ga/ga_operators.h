@@ -1,0 +1,31 @@
+#pragma once
+// The caterpillar paper's genetic operators as free functions over explicit random
+// streams (../shared/robots/caterpillar.md, section GA; paper 000, section on the GA).
+#include <vector>
+
+#include "services/core/keyed_rng.h"
+#include "services/engines/engine.h"
+
+namespace gaitforge::engines::ga {
+
+// Roulette weights: probability proportional to fitness. Roulette needs non-negative
+// weights, and distances can be negative, so weights are fitness minus the worst valid
+// fitness of the generation (w = f - f_min, "windowing"); the worst member gets weight 0.
+// Invalid members get 0. If every weight is 0 (all equal or all invalid), all members
+// that are valid (or, failing that, all members) get weight 1.
+std::vector<double> RouletteWeights(const std::vector<Evaluation>& evals);
+
+// Index i drawn with probability weights[i] / sum(weights). Weights must be non-negative
+// with a positive sum.
+int RouletteSelect(const std::vector<double>& weights, core::KeyedRng& rng);
+
+// One-point crossover that swaps the first n genes: child_a = b[0:n] + a[n:],
+// child_b = a[0:n] + b[n:].
+void SwapPrefix(std::vector<double>& a, std::vector<double>& b, int n);
+
+// Each gene, independently with probability `rate`, becomes a fresh uniform draw in
+// [lo, hi). Returns how many genes changed.
+int MutateReinit(std::vector<double>& genes, const Bounds& bounds, double rate,
+                 core::KeyedRng& rng);
+
+}  // namespace gaitforge::engines::ga

@@ -1,0 +1,117 @@
+#pragma once
+// The job queue: leases that expire, heartbeats that renew them, idempotent completion,
+// poison jobs and backup copies of stragglers (../shared/guides/distributed-notes.md).
+//
+// Not thread-safe: the coordinator calls it under its own mutex. Time comes from an
+// injected Clock so that tests can move it.
+#include <compare>
+#include <deque>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "services/core/clock.h"
+
+namespace gaitforge::queue {
+
+struct JobKey {
+  std::string study_id;
+  int generation = 0;
+  int member = 0;
+  auto operator<=>(const JobKey&) const = default;
+};
+
+struct QueueOptions {
+  // A lease ends this long after it was granted or last renewed by a heartbeat.
+  int64_t lease_ms = 10000;
+  // A job whose lease expired this many times is closed as poisoned.
+  int max_attempts = 3;
+  // Hand out a backup copy of a leased job when the queue is otherwise empty and the job
+  // has been out this long; at most one backup per job. 0 disables backups.
+  int64_t backup_after_ms = 2000;
+};
+
+struct Lease {
+  JobKey key;
+  uint64_t lease_id = 0;
+  bool backup = false;
+};
+
+enum class ReportCheck {
+  kOpen,       // the job is open and this lease may complete it
+  kDone,       // already completed: a duplicate, acknowledged but not counted
+  kNotHeld,    // the job is open but this worker was never leased it under this id
+  kUnknown,    // no such job in the queue
+};
+
+struct QueueCounters {
+  int64_t leased = 0;
+  int64_t expired = 0;
+  int64_t poisoned = 0;
+  int64_t duplicates = 0;
+  int64_t backups = 0;
+};
+
+class JobQueue {
+ public:
+  // epoch: distinguishes this coordinator process's lease ids from a previous one's.
+  JobQueue(core::Clock& clock, QueueOptions options, uint32_t epoch);
+
+  void Add(const JobKey& key);
+  // Up to max_jobs pending jobs whose key `accept` allows, oldest first; when none is
+  // pending, backup copies of stragglers.
+  std::vector<Lease> LeaseJobs(const std::string& worker_id, int max_jobs,
+                               const std::function<bool(const JobKey&)>& accept);
+  ReportCheck Check(const std::string& worker_id, const JobKey& key, uint64_t lease_id) const;
+  // Marks the job done; later reports are duplicates. Returns false if it was not open.
+  bool Complete(const JobKey& key);
+  void CountDuplicate() { ++counters_.duplicates; }
+  // Renews every lease of the worker; returns how many.
+  int Heartbeat(const std::string& worker_id);
+  // Returns expired jobs to the queue; returns the keys poisoned by this call.
+  std::vector<JobKey> ExpireLeases();
+  // Forgets every job of the study (cancel, or a generation's bookkeeping when done).
+  void RemoveStudy(const std::string& study_id);
+  void RemoveGeneration(const std::string& study_id, int generation);
+
+  size_t pending() const;
+  size_t in_flight() const;
+  bool HasJob(const JobKey& key) const { return jobs_.count(key) > 0; }
+  const QueueCounters& counters() const { return counters_; }
+  int64_t lease_ms() const { return options_.lease_ms; }
+  void set_lease_ms(int64_t ms) { options_.lease_ms = ms; }
+  uint32_t epoch() const { return epoch_; }
+
+ private:
+  enum class State { kPending, kLeased, kDone, kPoisoned };
+  struct Holder {
+    std::string worker_id;
+    uint64_t lease_id;
+    int64_t expires_ms;
+  };
+  struct Job {
+    State state = State::kPending;
+    int attempts = 0;  // leases that expired
+    int64_t first_leased_ms = 0;
+    bool backed_up = false;
+    std::vector<Holder> holders;  // active leases
+    std::set<uint64_t> issued;    // every lease id ever issued for it (this epoch)
+  };
+
+  uint64_t NextLeaseId() { return (static_cast<uint64_t>(epoch_) << 32) | ++lease_seq_; }
+
+  core::Clock& clock_;
+  QueueOptions options_;
+  uint32_t epoch_;
+  uint32_t lease_seq_ = 0;
+  std::map<JobKey, Job> jobs_;
+  // FIFO of jobs waiting for a lease. May hold keys that were completed meanwhile (a late
+  // result); LeaseJobs skips those.
+  std::deque<JobKey> pending_;
+  QueueCounters counters_;
+};
+
+}  // namespace gaitforge::queue

@@ -1,0 +1,56 @@
+#include "workers/objectives/objective.h"
+
+#include <cmath>
+#include <exception>
+
+#include "workers/objectives/analytic.h"
+
+namespace gaitforge::objectives {
+
+void ObjectiveRegistry::Register(const std::string& name,
+                                 std::shared_ptr<const Objective> objective) {
+  objectives_[name] = std::move(objective);
+}
+
+const Objective* ObjectiveRegistry::Find(const std::string& name) const {
+  auto it = objectives_.find(name);
+  return it == objectives_.end() ? nullptr : it->second.get();
+}
+
+std::vector<std::string> ObjectiveRegistry::Names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, o] : objectives_) out.push_back(name);
+  return out;
+}
+
+ObjectiveRegistry DefaultRegistry() {
+  ObjectiveRegistry r;
+  RegisterAnalytic(r);
+  return r;
+}
+
+EvalResult EvaluateSafely(const Objective& objective, const EvalInput& input) {
+  EvalResult r;
+  try {
+    r = objective.Evaluate(input);
+  } catch (const std::exception& e) {
+    r = EvalResult{};
+    r.reason = std::string("evaluation failed: ") + e.what();
+    return r;
+  } catch (...) {
+    r = EvalResult{};
+    r.reason = "evaluation failed: unknown exception";
+    return r;
+  }
+  if (r.valid && !std::isfinite(r.fitness)) {
+    r.valid = false;
+    r.reason = "non-finite fitness";
+  }
+  if (!r.valid) r.fitness = 0.0;
+  for (auto it = r.metrics.begin(); it != r.metrics.end();) {
+    it = std::isfinite(it->second) ? std::next(it) : r.metrics.erase(it);
+  }
+  return r;
+}
+
+}  // namespace gaitforge::objectives

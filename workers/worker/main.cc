@@ -1,0 +1,65 @@
+// gaitforge-worker: a stateless worker that pulls evaluation jobs from a coordinator.
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <iostream>
+#include <thread>
+
+#include "services/core/flags.h"
+#include "services/core/logging.h"
+#include "workers/objectives/objective.h"
+#include "workers/worker/worker_loop.h"
+
+using namespace gaitforge;
+
+int main(int argc, char** argv) {
+  worker::WorkerOptions o;
+  std::string log_level = "info";
+  o.threads = 1;
+  core::Flags flags("gaitforge-worker [flags]",
+                    "Pulls batches of evaluation jobs from a gaitforge coordinator, evaluates "
+                    "them on --threads threads and reports the results. Keeps no state: kill it "
+                    "at any time. SIGTERM or SIGINT drains: the batch in hand is finished and "
+                    "reported, then the worker exits 0.");
+  flags.Add("coordinator", &o.coordinator, "coordinator address, host:port");
+  flags.Add("threads", &o.threads, "evaluations run at once (1..256)");
+  flags.Add("max-batch", &o.max_batch, "most jobs per lease (the worker aims at ~0.5 s of work)");
+  flags.Add("worker-id", &o.worker_id, "identity shown in results (default host-pid-random)");
+  flags.Add("exit-when-idle", &o.exit_when_idle_s, "exit after this many seconds without work (0: never)");
+  flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
+  if (auto s = flags.Parse(argc, argv); !s.ok()) {
+    std::cerr << "gaitforge-worker: " << s.message() << "\n";
+    return 2;
+  }
+  if (flags.help_requested()) {
+    std::cout << flags.Help();
+    return 0;
+  }
+  if (o.threads < 1 || o.threads > 256) {
+    std::cerr << "gaitforge-worker: --threads = " << o.threads << " is out of range [1, 256]\n";
+    return 2;
+  }
+  if (o.max_batch < 1 || o.max_batch > 1024) {
+    std::cerr << "gaitforge-worker: --max-batch = " << o.max_batch << " is out of range [1, 1024]\n";
+    return 2;
+  }
+  core::SetupLogging("worker", log_level);
+
+  sigset_t sigs;
+  sigemptyset(&sigs);
+  sigaddset(&sigs, SIGINT);
+  sigaddset(&sigs, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
+  std::atomic<bool> drain{false};
+  std::thread signals([&] {
+    int sig = 0;
+    sigwait(&sigs, &sig);
+    spdlog::info("signal {}: draining", sig);
+    drain = true;
+  });
+  signals.detach();
+
+  const auto registry = objectives::DefaultRegistry();
+  return worker::RunWorker(o, registry, drain);
+}

@@ -1,0 +1,247 @@
+#include "workers/worker/worker_loop.h"
+
+#include <grpcpp/grpcpp.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <random>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "gaitforge/v1/worker.grpc.pb.h"
+#include "workers/worker/batch_runner.h"
+
+namespace gaitforge::worker {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kLeaseWaitMs = 2000;
+constexpr double kTargetBatchSeconds = 0.5;
+
+std::string DefaultWorkerId() {
+  char host[256] = {0};
+  gethostname(host, sizeof host - 1);
+  std::random_device rd;
+  return absl::StrCat(host, "-", getpid(), "-", absl::Hex(rd() & 0xffff, absl::kZeroPad4));
+}
+
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  args.SetMaxSendMessageSize(64 << 20);
+  // Keepalive (../shared/guides/distributed-notes.md): detect a dead coordinator in ~30 s.
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 20000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  args.SetInt(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
+  // Reconnect quickly after a coordinator restart.
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
+  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+}
+
+void SetDeadline(grpc::ClientContext& ctx, int ms) {
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(ms));
+}
+
+bool Retryable(const grpc::Status& s) {
+  return s.error_code() == grpc::StatusCode::UNAVAILABLE ||
+         s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED ||
+         s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED ||
+         s.error_code() == grpc::StatusCode::ABORTED ||
+         s.error_code() == grpc::StatusCode::INTERNAL ||
+         s.error_code() == grpc::StatusCode::UNKNOWN;
+}
+
+// Exponential backoff with jitter, 100 ms to 5 s.
+class Backoff {
+ public:
+  void Reset() { ms_ = 100; }
+  void Sleep(std::atomic<bool>& drain) {
+    std::uniform_int_distribution<int> jitter(ms_ / 2, ms_);
+    const auto until = Clock::now() + std::chrono::milliseconds(jitter(rng_));
+    while (Clock::now() < until && !drain.load())
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ms_ = std::min(ms_ * 2, 5000);
+  }
+
+ private:
+  int ms_ = 100;
+  std::mt19937 rng_{std::random_device{}()};
+};
+
+}  // namespace
+
+std::string SimBuild() {
+#ifdef GAITFORGE_SIM_BUILD
+  return GAITFORGE_SIM_BUILD;
+#else
+  return "gaitforge-dev";
+#endif
+}
+
+int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry& registry,
+              std::atomic<bool>& drain, WorkerStats* stats_out) {
+  WorkerStats stats;
+  auto channel = MakeChannel(options.coordinator);
+  auto stub = v1::WorkerService::NewStub(channel);
+  v1::WorkerInfo info;
+  info.set_worker_id(options.worker_id.empty() ? DefaultWorkerId() : options.worker_id);
+  char host[256] = {0};
+  gethostname(host, sizeof host - 1);
+  info.set_hostname(host);
+  info.set_threads(options.threads);
+  info.set_sim_build(SimBuild());
+  for (const auto& n : registry.Names()) info.add_objectives(n);
+  spdlog::info("worker {} ({} threads) pulling from {}", info.worker_id(), options.threads,
+               options.coordinator);
+
+  // Heartbeats from their own thread, so a long evaluation never loses its lease.
+  std::atomic<int> lease_ms{10000};
+  std::atomic<bool> holding{false};
+  std::atomic<bool> stop_heartbeat{false};
+  std::mutex hb_mu;
+  std::condition_variable hb_cv;
+  std::thread heartbeat([&] {
+    std::unique_lock<std::mutex> l(hb_mu);
+    while (!stop_heartbeat.load()) {
+      hb_cv.wait_for(l, std::chrono::milliseconds(std::max(200, lease_ms.load() / 3)));
+      if (stop_heartbeat.load() || !holding.load()) continue;
+      grpc::ClientContext ctx;
+      SetDeadline(ctx, 5000);
+      v1::HeartbeatRequest req;
+      *req.mutable_worker() = info;
+      v1::HeartbeatResponse resp;
+      grpc::Status s = stub->Heartbeat(&ctx, req, &resp);
+      if (s.ok()) lease_ms = resp.lease_ms();
+      else spdlog::debug("heartbeat failed: {}", s.error_message());
+    }
+  });
+
+  BatchRunner runner(options.threads);
+  Backoff backoff;
+  double mean_eval_s = 0.0;  // running estimate of one evaluation's time
+  auto last_work = Clock::now();
+  int code = 0;
+  while (!drain.load()) {
+    if (options.exit_when_idle_s > 0 &&
+        std::chrono::duration<double>(Clock::now() - last_work).count() > options.exit_when_idle_s)
+      break;
+    int want = options.threads * 4;
+    if (mean_eval_s > 0)
+      want = options.threads * static_cast<int>(std::ceil(kTargetBatchSeconds / mean_eval_s));
+    want = std::clamp(want, options.threads, std::max(options.threads, options.max_batch));
+
+    v1::LeaseRequest lreq;
+    *lreq.mutable_worker() = info;
+    lreq.set_max_jobs(std::min(want, 1024));
+    lreq.set_wait_ms(kLeaseWaitMs);
+    v1::LeaseResponse lease;
+    {
+      grpc::ClientContext ctx;
+      SetDeadline(ctx, kLeaseWaitMs + 10000);
+      grpc::Status s = stub->Lease(&ctx, lreq, &lease);
+      if (!s.ok()) {
+        if (!Retryable(s)) {
+          spdlog::error("lease refused: {} ({})", s.error_message(),
+                        static_cast<int>(s.error_code()));
+          code = 3;
+          break;
+        }
+        spdlog::warn("coordinator unreachable ({}); retrying", s.error_message());
+        backoff.Sleep(drain);
+        continue;
+      }
+    }
+    backoff.Reset();
+    lease_ms = lease.lease_ms();
+    if (lease.jobs_size() == 0) continue;
+    last_work = Clock::now();
+    holding = true;
+
+    const int n = lease.jobs_size();
+    v1::ReportRequest report;
+    *report.mutable_worker() = info;
+    for (int i = 0; i < n; ++i) report.add_results();
+    const auto t0 = Clock::now();
+    runner.Run(n, [&](int i) {
+      const v1::Job& job = lease.jobs(i);
+      v1::JobResult* out = report.mutable_results(i);
+      *out->mutable_key() = job.key();
+      out->set_lease_id(job.lease_id());
+      const auto start = Clock::now();
+      objectives::EvalResult r;
+      const objectives::Objective* obj = registry.Find(job.objective().name());
+      if (!obj) {
+        r.reason = absl::StrCat("objective '", job.objective().name(),
+                                "' is not built into this worker");
+      } else {
+        objectives::EvalInput in;
+        in.genes.assign(job.genes().begin(), job.genes().end());
+        for (const auto& b : job.bounds()) {
+          in.lo.push_back(b.lo());
+          in.hi.push_back(b.hi());
+        }
+        for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
+        if (in.lo.size() != in.genes.size()) {
+          r.reason = absl::StrCat("job has ", in.genes.size(), " genes but ", in.lo.size(),
+                                  " bounds");
+        } else {
+          r = objectives::EvaluateSafely(*obj, in);
+        }
+      }
+      auto* e = out->mutable_evaluation();
+      e->set_valid(r.valid);
+      e->set_fitness(r.fitness);
+      e->set_reason(r.reason);
+      for (const auto& [k, v] : r.metrics) (*e->mutable_metrics())[k] = v;
+      out->set_eval_seconds(std::chrono::duration<double>(Clock::now() - start).count());
+    });
+    const double batch_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double per_eval = batch_s * options.threads / n;
+    mean_eval_s = mean_eval_s == 0 ? per_eval : 0.7 * mean_eval_s + 0.3 * per_eval;
+    stats.evaluated += n;
+
+    // Report until it lands; a draining worker gives up after about 10 s.
+    const auto report_deadline = Clock::now() + std::chrono::seconds(10);
+    for (;;) {
+      grpc::ClientContext ctx;
+      SetDeadline(ctx, 30000);
+      v1::ReportResponse resp;
+      grpc::Status s = stub->Report(&ctx, report, &resp);
+      if (s.ok()) {
+        stats.reported += resp.accepted();
+        stats.duplicates += resp.duplicates();
+        break;
+      }
+      if (!Retryable(s)) {
+        spdlog::error("report refused: {}", s.error_message());
+        stats.refused += n;
+        break;
+      }
+      if (drain.load() && Clock::now() > report_deadline) {
+        spdlog::warn("draining: could not report {} results ({})", n, s.error_message());
+        break;
+      }
+      spdlog::warn("report failed ({}); retrying", s.error_message());
+      std::atomic<bool> never{false};
+      backoff.Sleep(never);
+    }
+    backoff.Reset();
+    holding = false;
+  }
+  stop_heartbeat = true;
+  hb_cv.notify_all();
+  heartbeat.join();
+  spdlog::info("worker {} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
+               info.worker_id(), stats.evaluated, stats.reported, stats.duplicates,
+               stats.refused);
+  if (stats_out) *stats_out = stats;
+  return code;
+}
+
+}  // namespace gaitforge::worker
