@@ -334,11 +334,17 @@ int64_t Coordinator::WaitForChange(int64_t seen, int timeout_ms) {
   return version_;
 }
 
+storage::StudyRecord Coordinator::LiveRecord(const Study& s) const {
+  storage::StudyRecord r = s.record;
+  r.evaluations = s.evaluations;  // includes results of the generation in flight
+  return r;
+}
+
 absl::StatusOr<storage::StudyRecord> Coordinator::Record(const std::string& id) {
   {
     std::lock_guard<std::mutex> l(mu_);
     auto it = studies_.find(id);
-    if (it != studies_.end()) return it->second->record;
+    if (it != studies_.end()) return LiveRecord(*it->second);
   }
   return store_->GetStudy(id);
 }
@@ -356,7 +362,7 @@ absl::StatusOr<std::vector<v1::StudySummary>> Coordinator::ListStudies() {
   std::lock_guard<std::mutex> l(mu_);
   for (const auto& r : *all) {
     auto it = studies_.find(r.study_id);
-    out.push_back(Summarize(it != studies_.end() ? it->second->record : r));
+    out.push_back(Summarize(it != studies_.end() ? LiveRecord(*it->second) : r));
   }
   return out;
 }

@@ -105,6 +105,7 @@ class Coordinator {
   v1::StudySummary Summarize(const storage::StudyRecord& r) const;
   v1::Progress MakeProgress(const Study* s, const storage::StudyRecord& r) const;
   absl::StatusOr<storage::StudyRecord> Record(const std::string& id);  // memory, else store
+  storage::StudyRecord LiveRecord(const Study& s) const;
   void SetState(Study& s, const std::string& state, const std::string& error);
   void Bump();
   int FairShare(int requested) const;

@@ -1,0 +1,161 @@
+// End to end: the real coordinator, real worker processes and the CLI over loopback gRPC,
+// checked against the SQLite file itself.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <filesystem>
+
+#include "tests/e2e/cluster.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::testing {
+namespace {
+
+const char* kSpec = R"(name: e2e
+seed: 2024
+population: 40
+generations: 12
+objective:
+  name: analytic.rastrigin
+  params: {work_us: 200}
+)";
+
+// Rows of a query as text, for exact comparison between databases.
+std::vector<std::string> Rows(const std::string& db, const std::string& sql) {
+  sqlite3* h = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr), SQLITE_OK) << sql;
+  std::vector<std::string> rows;
+  while (sqlite3_step(st) == SQLITE_ROW) {
+    std::string row;
+    for (int c = 0; c < sqlite3_column_count(st); ++c) {
+      const auto* t = sqlite3_column_text(st, c);
+      row += (t ? reinterpret_cast<const char*>(t) : "NULL") + std::string("|");
+    }
+    rows.push_back(row);
+  }
+  sqlite3_finalize(st);
+  sqlite3_close(h);
+  return rows;
+}
+
+std::string RunStudy(const TempDir& dir, const std::string& db, int workers) {
+  WriteFile(dir.File("spec.yaml"), kSpec);
+  LocalCluster cluster(dir.path(), db);
+  if (!cluster.ok()) return "";
+  auto submit = cluster.Cli("submit " + dir.File("spec.yaml"));
+  EXPECT_EQ(submit.exit_code, 0) << submit.err;
+  const std::string id = submit.out.substr(0, submit.out.find('\n'));
+  cluster.StartWorkers(workers);
+  auto watch = cluster.Cli("watch " + id + " --json");
+  EXPECT_EQ(watch.exit_code, 0) << watch.err;
+  EXPECT_NE(watch.out.find("STUDY_STATE_COMPLETED"), std::string::npos) << watch.out;
+  return id;
+}
+
+TEST(EndToEnd, AStudyRunsOverGrpcAndIsStoredInSqlite) {
+  TempDir dir;
+  const std::string db = dir.File("runs/gf.db");
+  std::filesystem::create_directories(dir.File("runs"));
+  const std::string id = RunStudy(dir, db, 2);
+  ASSERT_FALSE(id.empty());
+
+  // The SQLite file itself.
+  EXPECT_EQ(Rows(db, "SELECT state, generations_done, evaluations FROM studies")[0],
+            "completed|12|370|");  // 40 + 11 x 30: elites are not evaluated again
+  EXPECT_EQ(Rows(db, "SELECT COUNT(*), COUNT(DISTINCT generation) FROM individuals")[0],
+            "480|12|");
+  EXPECT_EQ(Rows(db, "SELECT COUNT(*) FROM hall_of_fame")[0], "120|");
+  EXPECT_EQ(Rows(db, "SELECT COUNT(DISTINCT worker_id) FROM individuals WHERE carried = 0")[0],
+            "2|");
+  EXPECT_EQ(Rows(db, "PRAGMA integrity_check")[0], "ok|");
+  // Hall-of-fame history: each generation's best is at least the previous one's.
+  const auto best = Rows(db, "SELECT fitness FROM hall_of_fame WHERE rank = 0 ORDER BY generation");
+  ASSERT_EQ(best.size(), 12u);
+  for (size_t g = 1; g < best.size(); ++g) EXPECT_GE(std::stod(best[g]), std::stod(best[g - 1]));
+  // The best of generation 11 is the best of all evaluated individuals.
+  EXPECT_EQ(Rows(db, "SELECT MAX(fitness) FROM individuals")[0], best.back());
+
+  // The CLI reads it back, through the embedded read-only coordinator on the file.
+  const std::string cli = Bin("gaitforge") + " --db " + db + " ";
+  auto hof = RunCommand(cli + "hof " + id + " --generation 5 --json");
+  EXPECT_EQ(hof.exit_code, 0) << hof.err;
+  EXPECT_NE(hof.out.find("\"generation\":5"), std::string::npos) << hof.out;
+  auto history = RunCommand(cli + "history " + id + " --csv");
+  EXPECT_EQ(history.exit_code, 0) << history.err;
+  EXPECT_EQ(std::count(history.out.begin(), history.out.end(), '\n'), 13);
+  auto list = RunCommand(cli + "list --json");
+  EXPECT_NE(list.out.find(id), std::string::npos);
+  EXPECT_EQ(RunCommand(cli + "show nope").exit_code, 3);
+  EXPECT_EQ(RunCommand(cli + "hof " + id + " --generation 12").exit_code, 3);
+}
+
+TEST(EndToEnd, OneWorkerAndThreeWorkersGiveTheSameStudy) {
+  TempDir a, b;
+  const std::string db1 = a.File("one.db"), db3 = b.File("three.db");
+  ASSERT_FALSE(RunStudy(a, db1, 1).empty());
+  ASSERT_FALSE(RunStudy(b, db3, 3).empty());
+  const std::string q =
+      "SELECT generation, member, hex(genes), valid, fitness, carried FROM individuals "
+      "ORDER BY generation, member";
+  EXPECT_EQ(Rows(db1, q), Rows(db3, q));
+  const std::string h = "SELECT generation, rank, hex(genes), fitness FROM hall_of_fame "
+                        "ORDER BY generation, rank";
+  EXPECT_EQ(Rows(db1, h), Rows(db3, h));
+  EXPECT_EQ(Rows(db1, "SELECT hex(engine_state) FROM generations ORDER BY generation"),
+            Rows(db3, "SELECT hex(engine_state) FROM generations ORDER BY generation"));
+  EXPECT_EQ(Rows(db3, "SELECT COUNT(DISTINCT worker_id) FROM individuals WHERE carried = 0")[0],
+            "3|");
+}
+
+TEST(EndToEnd, BadInputGetsClearErrorsAndExitCodes) {
+  TempDir dir;
+  LocalCluster cluster(dir.path(), dir.File("r.db"));
+  ASSERT_TRUE(cluster.ok());
+  WriteFile(dir.File("bad.yaml"), "seed: 1\npopulation: 5\ngenerations: 2\nobjective:\n"
+                                  "  name: analytic.sphere\nmutation: 0.5\n");
+  auto r = cluster.Cli("submit " + dir.File("bad.yaml"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.yaml:6:1: field 'mutation': unknown field 'mutation'"),
+            std::string::npos)
+      << r.err;
+  WriteFile(dir.File("range.yaml"), "population: 5\ngenerations: 2\nobjective:\n"
+                                    "  name: analytic.sphere\n");
+  r = cluster.Cli("submit " + dir.File("range.yaml"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("range.yaml: field 'ga.elite' = 10 is out of range [0, population - 1 = 4]"),
+            std::string::npos)
+      << r.err;
+  r = cluster.Cli("submit " + dir.File("missing.yaml"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("missing.yaml"), std::string::npos);
+  r = cluster.Cli("show no-such-study");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("no study with id 'no-such-study'"), std::string::npos) << r.err;
+  r = cluster.Cli("list --json");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out.find("study_id"), std::string::npos) << "nothing was stored: " << r.out;
+  r = RunCommand(Bin("gaitforge") + " --coordinator 127.0.0.1:1 --timeout 2 list");
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_EQ(RunCommand(Bin("gaitforge") + " frobnicate").exit_code, 2);
+  EXPECT_EQ(RunCommand(Bin("gaitforge") + " --help").exit_code, 0);
+  EXPECT_EQ(RunCommand(Bin("gaitforge-worker") + " --help").exit_code, 0);
+  EXPECT_EQ(RunCommand(Bin("gaitforge-coordinator") + " --help").exit_code, 0);
+  EXPECT_EQ(RunCommand(Bin("gaitforge-worker") + " --threads 0").exit_code, 2);
+}
+
+TEST(EndToEnd, LocalRunsTheEmbeddedDefaultAndLeavesItQueryable) {
+  TempDir dir;
+  WriteFile(dir.File("spec.yaml"), kSpec);
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " local spec.yaml " +
+                      "--workers 2 --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
+  auto list = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " list");
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_NE(list.out.find("completed"), std::string::npos) << list.out;
+}
+
+}  // namespace
+}  // namespace gaitforge::testing

@@ -1,0 +1,218 @@
+// The coordinator with a real SQLite file and the real objectives, driven in-process.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include "services/coordinator/coordinator.h"
+#include "tests/integration/study_driver.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::testing {
+namespace {
+
+using coordinator::Coordinator;
+using coordinator::CoordinatorOptions;
+
+std::unique_ptr<Coordinator> Open(const std::string& db, core::Clock& clock,
+                                  CoordinatorOptions o = {}) {
+  auto store = storage::OpenSqliteStore(db);
+  EXPECT_TRUE(store.ok()) << store.status();
+  auto c = std::make_unique<Coordinator>(std::move(*store), o, clock);
+  EXPECT_TRUE(c->RecoverStudies().ok());
+  return c;
+}
+
+std::string Create(Coordinator& c, const v1::StudySpec& spec) {
+  auto s = c.CreateStudy(spec);
+  EXPECT_TRUE(s.ok()) << s.status();
+  return s->study_id();
+}
+
+TEST(Coordinator, RunsAStudyToCompletionAndStoresEverything) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string id = Create(*c, SmallSpec(1));
+  Drive(*c, {});
+  auto s = c->GetStudy(id);
+  ASSERT_TRUE(s.ok());
+  EXPECT_EQ(s->state(), v1::STUDY_STATE_COMPLETED);
+  EXPECT_EQ(s->generations_done(), 6);
+  EXPECT_EQ(s->evaluations(), 30 + 5 * 20);  // elites are not evaluated again
+  const StudyDump d = Dump(*c, id);
+  EXPECT_EQ(d.generations, 6);
+  EXPECT_EQ(d.fitness.size(), 180u);
+  EXPECT_EQ(d.hof_fitness.size(), 60u);
+  // The best never gets worse (the hall of fame is carried).
+  for (int g = 1; g < 6; ++g) EXPECT_GE(d.hof_fitness[g * 10], d.hof_fitness[(g - 1) * 10]);
+}
+
+TEST(Coordinator, ResultDoesNotDependOnBatchingOrReportOrder) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto a = Open(dir.File("a.db"), clock);
+  auto b = Open(dir.File("b.db"), clock);
+  const std::string ia = Create(*a, SmallSpec(9));
+  const std::string ib = Create(*b, SmallSpec(9));
+  Drive(*a, {.batch = 1});
+  Drive(*b, {.batch = 7, .reverse = true});
+  EXPECT_EQ(Dump(*a, ia), Dump(*b, ib));
+}
+
+TEST(Coordinator, ARestartedCoordinatorResumesAndEndsBitIdentical) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto ref = Open(dir.File("ref.db"), clock);
+  const std::string rid = Create(*ref, SmallSpec(4));
+  Drive(*ref, {.batch = 5});
+
+  std::string id;
+  {
+    auto c = Open(dir.File("r.db"), clock);
+    id = Create(*c, SmallSpec(4));
+    Drive(*c, {.batch = 5, .max_reports = 9});  // mid-generation 1
+    c->Shutdown();
+  }
+  for (int restart = 0; restart < 3; ++restart) {
+    auto c = Open(dir.File("r.db"), clock);
+    auto s = c->GetStudy(id);
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ(s->state(), v1::STUDY_STATE_RUNNING);
+    Drive(*c, {.batch = 3, .max_reports = 7});
+  }
+  auto c = Open(dir.File("r.db"), clock);
+  Drive(*c, {.batch = 11});
+  EXPECT_EQ(c->GetStudy(id)->state(), v1::STUDY_STATE_COMPLETED);
+  EXPECT_EQ(Dump(*c, id), Dump(*ref, rid));
+  // Results stored before a restart were not evaluated again.
+  EXPECT_EQ(c->GetStudy(id)->evaluations(), ref->GetStudy(rid)->evaluations());
+}
+
+TEST(Coordinator, CancelThenResumeContinuesIdentically) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string ref = Create(*c, SmallSpec(5));
+  Drive(*c, {});
+  const std::string id = Create(*c, SmallSpec(5));
+  Drive(*c, {.batch = 4, .max_reports = 10});
+  auto cancelled = c->CancelStudy(id);
+  ASSERT_TRUE(cancelled.ok()) << cancelled.status();
+  EXPECT_EQ(cancelled->state(), v1::STUDY_STATE_CANCELLED);
+  EXPECT_EQ(Drive(*c, {}), 0) << "a cancelled study hands out no work";
+  EXPECT_EQ(c->CancelStudy(id).status().code(), absl::StatusCode::kFailedPrecondition);
+  auto resumed = c->ResumeStudy(id);
+  ASSERT_TRUE(resumed.ok()) << resumed.status();
+  Drive(*c, {.batch = 9});
+  EXPECT_EQ(c->GetStudy(id)->state(), v1::STUDY_STATE_COMPLETED);
+  EXPECT_EQ(Dump(*c, id), Dump(*c, ref));
+  EXPECT_EQ(c->ResumeStudy(id).status().code(), absl::StatusCode::kFailedPrecondition);
+}
+
+TEST(Coordinator, BadReportsAreRefusedAndChangeNothing) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string id = Create(*c, SmallSpec(2));
+  v1::LeaseRequest lreq;
+  lreq.mutable_worker()->set_worker_id("w1");
+  lreq.set_max_jobs(2);
+  auto lease = c->Lease(lreq);
+  ASSERT_TRUE(lease.ok());
+  ASSERT_EQ(lease->jobs_size(), 2);
+
+  auto report = [&](const std::string& worker, const v1::Job& job, double fitness, bool valid,
+                    uint64_t lease_id) {
+    v1::ReportRequest r;
+    r.mutable_worker()->set_worker_id(worker);
+    auto* res = r.add_results();
+    *res->mutable_key() = job.key();
+    res->set_lease_id(lease_id);
+    res->mutable_evaluation()->set_valid(valid);
+    res->mutable_evaluation()->set_fitness(fitness);
+    return c->Report(r);
+  };
+  const auto& job = lease->jobs(0);
+  // A job the worker does not hold.
+  auto s = report("w2", job, 1.0, true, 0);
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(s.status().message().find("does not hold this job"), std::string::npos);
+  // A non-finite fitness.
+  s = report("w1", job, INFINITY, true, job.lease_id());
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.status().message().find("evaluation.fitness"), std::string::npos);
+  // An unknown study and a job from the future.
+  v1::Job bogus = job;
+  bogus.mutable_key()->set_study_id("nope");
+  EXPECT_EQ(report("w1", bogus, 1, true, job.lease_id()).status().code(),
+            absl::StatusCode::kFailedPrecondition);
+  bogus = job;
+  bogus.mutable_key()->set_generation(3);
+  EXPECT_EQ(report("w1", bogus, 1, true, job.lease_id()).status().code(),
+            absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(c->GetStudy(id)->evaluations(), 0);
+  // The real result is accepted once; a repeat is a counted duplicate.
+  auto ok = report("w1", job, -3.0, true, job.lease_id());
+  ASSERT_TRUE(ok.ok());
+  EXPECT_EQ(ok->accepted(), 1);
+  auto dup = report("w1", job, -3.0, true, job.lease_id());
+  ASSERT_TRUE(dup.ok());
+  EXPECT_EQ(dup->duplicates(), 1);
+  EXPECT_EQ(c->GetStudy(id)->evaluations(), 1);
+  EXPECT_EQ(c->QueueStats().duplicates, 1);
+  // Malformed lease requests.
+  lreq.set_max_jobs(0);
+  EXPECT_EQ(c->Lease(lreq).status().code(), absl::StatusCode::kInvalidArgument);
+  lreq.set_max_jobs(1);
+  lreq.mutable_worker()->clear_worker_id();
+  EXPECT_EQ(c->Lease(lreq).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST(Coordinator, InvalidSpecsAreRefusedAndNothingIsStored) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("r.db"), clock);
+  auto spec = SmallSpec(1);
+  spec.set_population(1);
+  auto s = c->CreateStudy(spec);
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.status().message().find("field 'population' = 1 is out of range [2, 100000]"),
+            std::string::npos)
+      << s.status();
+  spec = SmallSpec(1);
+  spec.mutable_objective()->set_name("analytic.none");
+  EXPECT_EQ(c->CreateStudy(spec).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(c->ListStudies()->empty());
+  EXPECT_EQ(c->GetStudy("nope").status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST(Coordinator, ALostJobIsRetriedThenPoisonedSoTheGenerationFinishes) {
+  TempDir dir;
+  core::ManualClock clock;
+  CoordinatorOptions o;
+  o.lease_ms = 1000;
+  o.max_attempts = 2;
+  o.backup_after_ms = 0;
+  auto c = Open(dir.File("r.db"), clock, o);
+  const std::string id = Create(*c, SmallSpec(3, 12, 2));
+  v1::LeaseRequest lreq;
+  lreq.mutable_worker()->set_worker_id("dies");
+  lreq.set_max_jobs(1);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    auto l = c->Lease(lreq);
+    ASSERT_TRUE(l.ok());
+    ASSERT_EQ(l->jobs_size(), 1);
+    EXPECT_EQ(l->jobs(0).key().member(), 0);
+    clock.Advance(1001);
+    c->Tick();
+  }
+  Drive(*c, {});
+  auto inds = c->Individuals(id, 0);
+  ASSERT_TRUE(inds.ok());
+  EXPECT_FALSE(inds->individuals(0).evaluation().valid());
+  EXPECT_NE(inds->individuals(0).evaluation().reason().find("poisoned"), std::string::npos);
+  EXPECT_EQ(c->GetStudy(id)->state(), v1::STUDY_STATE_COMPLETED);
+  EXPECT_EQ(c->QueueStats().poisoned, 1);
+}
+
+}  // namespace
+}  // namespace gaitforge::testing

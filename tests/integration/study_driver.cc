@@ -1,0 +1,79 @@
+#include "tests/integration/study_driver.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace gaitforge::testing {
+
+int Drive(coordinator::Coordinator& c, const DriveOptions& o) {
+  static const auto registry = objectives::DefaultRegistry();
+  int reports = 0;
+  for (;;) {
+    if (o.max_reports >= 0 && reports >= o.max_reports) return reports;
+    v1::LeaseRequest lreq;
+    lreq.mutable_worker()->set_worker_id(o.worker_id);
+    lreq.set_max_jobs(o.batch);
+    auto lease = c.Lease(lreq);
+    EXPECT_TRUE(lease.ok()) << lease.status();
+    if (!lease.ok() || lease->jobs_size() == 0) return reports;
+    v1::ReportRequest rep;
+    rep.mutable_worker()->set_worker_id(o.worker_id);
+    std::vector<int> idx(lease->jobs_size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
+    if (o.reverse) std::reverse(idx.begin(), idx.end());
+    for (int i : idx) {
+      const auto& job = lease->jobs(i);
+      objectives::EvalInput in;
+      in.genes.assign(job.genes().begin(), job.genes().end());
+      for (const auto& b : job.bounds()) {
+        in.lo.push_back(b.lo());
+        in.hi.push_back(b.hi());
+      }
+      for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
+      const auto r = objectives::EvaluateSafely(*registry.Find(job.objective().name()), in);
+      auto* res = rep.add_results();
+      *res->mutable_key() = job.key();
+      res->set_lease_id(job.lease_id());
+      res->mutable_evaluation()->set_valid(r.valid);
+      res->mutable_evaluation()->set_fitness(r.fitness);
+    }
+    auto ok = c.Report(rep);
+    EXPECT_TRUE(ok.ok()) << ok.status();
+    ++reports;
+  }
+}
+
+StudyDump Dump(coordinator::Coordinator& c, const std::string& id) {
+  StudyDump d;
+  auto hist = c.History(id);
+  EXPECT_TRUE(hist.ok()) << hist.status();
+  d.generations = hist->generations_size();
+  for (int g = 0; g < d.generations; ++g) {
+    auto inds = c.Individuals(id, g);
+    EXPECT_TRUE(inds.ok());
+    for (const auto& i : inds->individuals()) {
+      d.genes.emplace_back(i.genes().begin(), i.genes().end());
+      d.fitness.push_back(i.evaluation().fitness());
+    }
+    auto hof = c.HallOfFame(id, g);
+    EXPECT_TRUE(hof.ok());
+    for (const auto& e : hof->entries()) {
+      d.hof_genes.emplace_back(e.individual().genes().begin(), e.individual().genes().end());
+      d.hof_fitness.push_back(e.individual().evaluation().fitness());
+    }
+  }
+  return d;
+}
+
+v1::StudySpec SmallSpec(uint64_t seed, int population, int generations) {
+  v1::StudySpec s;
+  s.set_name("it");
+  s.set_seed(seed);
+  s.set_population(population);
+  s.set_generations(generations);
+  s.mutable_objective()->set_name("analytic.rastrigin");
+  return s;
+}
+
+}  // namespace gaitforge::testing

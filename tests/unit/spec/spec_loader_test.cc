@@ -1,0 +1,109 @@
+#include <gtest/gtest.h>
+
+#include "services/spec/spec_loader.h"
+#include "services/spec/spec_validation.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::spec {
+namespace {
+
+absl::Status Check(const std::string& text) {
+  auto loaded = ParseSpec(text, "s.yaml");
+  if (!loaded.ok()) return loaded.status();
+  ApplyDefaults(&loaded->spec);
+  return ValidationStatus(Validate(loaded->spec), &*loaded);
+}
+
+const char* kGood =
+    "name: t\nseed: 3\npopulation: 20\ngenerations: 4\nobjective:\n  name: analytic.sphere\n"
+    "  params:\n    work_us: 5\n";
+
+TEST(SpecLoader, AGoodSpecLoadsWithDefaults) {
+  auto loaded = ParseSpec(kGood, "s.yaml");
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  ApplyDefaults(&loaded->spec);
+  EXPECT_TRUE(Validate(loaded->spec).empty());
+  EXPECT_EQ(loaded->spec.engine(), "ga");
+  EXPECT_EQ(loaded->spec.ga().elite(), 10);
+  EXPECT_DOUBLE_EQ(loaded->spec.ga().mutation_rate(), 0.10);
+  ASSERT_EQ(loaded->spec.bounds_size(), 13);  // the caterpillar gait space
+  EXPECT_EQ(loaded->spec.bounds(12).name(), "T");
+  EXPECT_DOUBLE_EQ(loaded->spec.bounds(12).lo(), 0.2);
+  EXPECT_DOUBLE_EQ(loaded->spec.objective().params().at("work_us"), 5);
+}
+
+TEST(SpecLoader, JsonIsAcceptedToo) {
+  auto s = Check(R"({"seed": 1, "population": 12, "generations": 2,
+                     "objective": {"name": "analytic.rastrigin"}})");
+  EXPECT_TRUE(s.ok()) << s;
+}
+
+TEST(SpecLoader, UnknownFieldNamesLineAndKnownFields) {
+  auto s = Check("seed: 1\npopulaton: 20\n");
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("s.yaml:2:1"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("unknown field 'populaton'"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("population"), std::string::npos) << s;
+}
+
+TEST(SpecLoader, OutOfRangeValuesNameFieldLineAndRange) {
+  auto s = Check(std::string(kGood) + "ga:\n  mutation_rate: 1.5\n");
+  EXPECT_NE(s.message().find("s.yaml:10:3: field 'ga.mutation_rate' = 1.5 is out of range [0, 1]"),
+            std::string::npos)
+      << s;
+  s = Check("population: 1\ngenerations: 0\nobjective: {name: analytic.sphere}\n");
+  EXPECT_NE(s.message().find("s.yaml:1:1: field 'population' = 1 is out of range [2, 100000]"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.message().find("field 'generations' = 0 is out of range [1, 100000]"),
+            std::string::npos)
+      << s;
+  s = Check(std::string(kGood) + "bounds:\n  - {name: a, lo: 1, hi: 0}\n");
+  EXPECT_NE(s.message().find("field 'bounds[0]' needs finite lo < hi"), std::string::npos) << s;
+  s = Check("population: 20\ngenerations: 2\nobjective:\n  name: analytic.sphere\n  params:\n"
+            "    work_us: -1\n    bogus: 2\n");
+  EXPECT_NE(s.message().find("s.yaml:6:5: field 'objective.params.work_us' = -1 is out of range"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.message().find("'objective.params.bogus' is not a parameter"), std::string::npos)
+      << s;
+}
+
+TEST(SpecLoader, NanAndWrongTypesAreRejected) {
+  auto s = Check("population: 20\ngenerations: 2\nobjective: {name: analytic.sphere}\n"
+                 "bounds:\n  - {name: a, lo: .nan, hi: 1}\n");
+  EXPECT_NE(s.message().find("s.yaml:5:19: field 'bounds[0].lo': expected a finite number"),
+            std::string::npos)
+      << s;
+  s = Check("population: many\n");
+  EXPECT_NE(s.message().find("field 'population': expected an integer"), std::string::npos) << s;
+  s = Check("seed: -4\n");
+  EXPECT_NE(s.message().find("field 'seed': expected an integer in [0,"), std::string::npos) << s;
+  s = Check("objective: [1, 2]\n");
+  EXPECT_NE(s.message().find("expected a mapping of ObjectiveSpec fields"), std::string::npos)
+      << s;
+  s = Check("population: 20\ngenerations: 2\nobjective: {name: analytic.nope}\n");
+  EXPECT_NE(s.message().find("'analytic.nope' is not a known objective; one of analytic.sphere"),
+            std::string::npos)
+      << s;
+  s = Check("a: [unclosed\n");
+  EXPECT_NE(s.message().find("not valid YAML/JSON"), std::string::npos) << s;
+}
+
+TEST(SpecLoader, MissingFileIsNotFound) {
+  auto s = LoadSpecFile("/no/such/spec.yaml");
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(s.status().message().find("/no/such/spec.yaml"), std::string::npos);
+}
+
+TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
+  for (const char* f : {"examples/analytic-ga.yaml"}) {
+    auto loaded = LoadSpecFile(std::string(GAITFORGE_SOURCE_DIR) + "/" + f);
+    ASSERT_TRUE(loaded.ok()) << loaded.status();
+    ApplyDefaults(&loaded->spec);
+    EXPECT_TRUE(ValidationStatus(Validate(loaded->spec), &*loaded).ok()) << f;
+  }
+}
+
+}  // namespace
+}  // namespace gaitforge::spec
