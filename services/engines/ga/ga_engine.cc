@@ -103,39 +103,40 @@ absl::Status GaEngine::Tell(const std::vector<Evaluation>& evals) {
 
 void GaEngine::Breed(const std::vector<Evaluation>& evals, const std::vector<int>& order) {
   const int g = generation_;  // the generation being created
-  std::vector<Candidate> next;
-  next.reserve(config_.population);
+  // Two population buffers swap roles each generation, so breeding reuses their memory.
+  std::vector<Candidate>& next = spare_;
+  next.resize(config_.population);
   for (int r = 0; r < config_.elite; ++r) {
     const Candidate& parent = candidates_[order[r]];
-    Candidate c;
+    Candidate& c = next[r];
     c.member = r;
-    c.genes = parent.genes;
+    c.genes.assign(parent.genes.begin(), parent.genes.end());
     c.known = evals[order[r]];
     c.origin_generation = parent.origin_generation;
     c.origin_member = parent.origin_member;
-    next.push_back(std::move(c));
   }
-  const std::vector<double> weights = RouletteWeights(evals);
+  const std::vector<double> cumulative = Cumulative(RouletteWeights(evals));
   const int n = CrossoverPoint(g);
   for (int first = config_.elite; first < config_.population; first += 2) {
     KeyedRng select(config_.seed, g, first, Purpose::kSelect);
-    const int pa = RouletteSelect(weights, select);
-    const int pb = RouletteSelect(weights, select);
-    std::vector<double> a = candidates_[pa].genes;
-    std::vector<double> b = candidates_[pb].genes;
-    SwapPrefix(a, b, n);
+    const auto& pa = candidates_[RouletteSelectCumulative(cumulative, select)].genes;
+    const auto& pb = candidates_[RouletteSelectCumulative(cumulative, select)].genes;
     for (int k = 0; k < 2 && first + k < config_.population; ++k) {
-      Candidate c;
+      Candidate& c = next[first + k];
       c.member = first + k;
-      c.genes = k == 0 ? std::move(a) : std::move(b);
+      // Child 0 takes b's first n genes and a's rest; child 1 the other way round.
+      const auto& head = k == 0 ? pb : pa;
+      const auto& tail = k == 0 ? pa : pb;
+      c.genes.assign(tail.begin(), tail.end());
+      std::copy(head.begin(), head.begin() + n, c.genes.begin());
       KeyedRng mutate(config_.seed, g, c.member, Purpose::kMutate);
       MutateReinit(c.genes, config_.bounds, config_.mutation_rate, mutate);
+      c.known.reset();
       c.origin_generation = g;
       c.origin_member = c.member;
-      next.push_back(std::move(c));
     }
   }
-  candidates_ = std::move(next);
+  candidates_.swap(spare_);
 }
 
 namespace {

@@ -55,6 +55,7 @@ class GaEngine final : public Engine {
   GaConfig config_;
   int generation_ = 0;
   std::vector<Candidate> candidates_;
+  std::vector<Candidate> spare_;  // the other population buffer (not state)
   std::vector<Ranked> hof_;
 };
 

@@ -40,6 +40,27 @@ int RouletteSelect(const std::vector<double>& weights, core::KeyedRng& rng) {
   return last_positive;  // rounding at the top end
 }
 
+std::vector<double> Cumulative(const std::vector<double>& weights) {
+  std::vector<double> c(weights.size());
+  double acc = 0.0;
+  for (size_t i = 0; i < weights.size(); ++i) c[i] = acc += weights[i];
+  return c;
+}
+
+int RouletteSelectCumulative(const std::vector<double>& cumulative, core::KeyedRng& rng) {
+  const double target = rng.Uniform01() * cumulative.back();
+  // First index whose prefix sum exceeds the target; zero-weight entries never qualify
+  // because their prefix sum equals their predecessor's.
+  auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+  if (it == cumulative.end()) {
+    // Rounding at the top end: the last entry with positive weight.
+    size_t i = cumulative.size() - 1;
+    while (i > 0 && cumulative[i] == cumulative[i - 1]) --i;
+    return static_cast<int>(i);
+  }
+  return static_cast<int>(it - cumulative.begin());
+}
+
 void SwapPrefix(std::vector<double>& a, std::vector<double>& b, int n) {
   assert(a.size() == b.size());
   for (int i = 0; i < n && i < static_cast<int>(a.size()); ++i) std::swap(a[i], b[i]);
@@ -49,11 +70,8 @@ int MutateReinit(std::vector<double>& genes, const Bounds& bounds, double rate,
                  core::KeyedRng& rng) {
   int changed = 0;
   for (size_t i = 0; i < genes.size(); ++i) {
-    // Two draws per gene, always, so the stream position never depends on earlier outcomes.
-    const double u = rng.Uniform01();
-    const double fresh = rng.Uniform(bounds.lo[i], bounds.hi[i]);
-    if (u < rate) {
-      genes[i] = fresh;
+    if (rng.Uniform01() < rate) {
+      genes[i] = rng.Uniform(bounds.lo[i], bounds.hi[i]);
       ++changed;
     }
   }

@@ -19,12 +19,19 @@ std::vector<double> RouletteWeights(const std::vector<Evaluation>& evals);
 // with a positive sum.
 int RouletteSelect(const std::vector<double>& weights, core::KeyedRng& rng);
 
+// The same draw over prefix sums (cumulative[i] = w[0] + ... + w[i], summed in index
+// order), by binary search: one draw consumes one number, exactly like RouletteSelect, and
+// picks the same index.
+int RouletteSelectCumulative(const std::vector<double>& cumulative, core::KeyedRng& rng);
+std::vector<double> Cumulative(const std::vector<double>& weights);
+
 // One-point crossover that swaps the first n genes: child_a = b[0:n] + a[n:],
 // child_b = a[0:n] + b[n:].
 void SwapPrefix(std::vector<double>& a, std::vector<double>& b, int n);
 
 // Each gene, independently with probability `rate`, becomes a fresh uniform draw in
-// [lo, hi). Returns how many genes changed.
+// [lo, hi). Per gene the stream yields one decision number and, only when the gene
+// mutates, one value. Returns how many genes changed.
 int MutateReinit(std::vector<double>& genes, const Bounds& bounds, double rate,
                  core::KeyedRng& rng);
 

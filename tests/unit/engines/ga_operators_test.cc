@@ -40,6 +40,17 @@ TEST(RouletteSelect, ProportionalToWeight) {
   }
 }
 
+TEST(RouletteSelect, CumulativeFormPicksTheSameIndexForTheSameStream) {
+  const std::vector<double> w = {0, 1.5, 0, 0, 2.5, 0.25, 0};
+  const auto c = Cumulative(w);
+  for (uint64_t k = 0; k < 5000; ++k) {
+    KeyedRng a(k, 1, 2, Purpose::kSelect), b(k, 1, 2, Purpose::kSelect);
+    const int i = RouletteSelect(w, a);
+    EXPECT_EQ(i, RouletteSelectCumulative(c, b));
+    EXPECT_GT(w[i], 0.0);
+  }
+}
+
 TEST(SwapPrefix, SwapsExactlyTheFirstNGenes) {
   std::vector<double> a = {1, 2, 3, 4, 5}, b = {6, 7, 8, 9, 10};
   SwapPrefix(a, b, 2);
