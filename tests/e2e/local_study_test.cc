@@ -5,6 +5,8 @@
 
 #include <filesystem>
 
+#include "clients/cli/cli.h"
+#include "grpc/health/v1/health.grpc.pb.h"
 #include "tests/e2e/cluster.h"
 #include "tests/support/temp_dir.h"
 
@@ -107,6 +109,20 @@ TEST(EndToEnd, OneWorkerAndThreeWorkersGiveTheSameStudy) {
             Rows(db3, "SELECT hex(engine_state) FROM generations ORDER BY generation"));
   EXPECT_EQ(Rows(db3, "SELECT COUNT(DISTINCT worker_id) FROM individuals WHERE carried = 0")[0],
             "3|");
+}
+
+TEST(EndToEnd, TheCoordinatorServesGrpcHealth) {
+  TempDir dir;
+  LocalCluster cluster(dir.path(), dir.File("r.db"));
+  ASSERT_TRUE(cluster.ok());
+  auto stub = grpc::health::v1::Health::NewStub(cli::MakeChannel(cluster.target()));
+  grpc::ClientContext ctx;
+  cli::SetDeadline(ctx, 10);
+  grpc::health::v1::HealthCheckRequest req;
+  grpc::health::v1::HealthCheckResponse resp;
+  grpc::Status s = stub->Check(&ctx, req, &resp);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  EXPECT_EQ(resp.status(), grpc::health::v1::HealthCheckResponse::SERVING);
 }
 
 TEST(EndToEnd, BadInputGetsClearErrorsAndExitCodes) {

@@ -100,17 +100,25 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
   spdlog::info("worker {} ({} threads) pulling from {}", info.worker_id(), options.threads,
                options.coordinator);
 
-  // Heartbeats from their own thread, so a long evaluation never loses its lease.
+  // Heartbeats from their own thread, so a long evaluation never loses its lease. The same
+  // thread cancels a pending long-poll Lease as soon as a drain is requested.
   std::atomic<int> lease_ms{10000};
   std::atomic<bool> holding{false};
   std::atomic<bool> stop_heartbeat{false};
-  std::mutex hb_mu;
-  std::condition_variable hb_cv;
+  std::mutex lease_mu;
+  grpc::ClientContext* lease_ctx = nullptr;  // guarded by lease_mu
   std::thread heartbeat([&] {
-    std::unique_lock<std::mutex> l(hb_mu);
+    auto last = Clock::now();
     while (!stop_heartbeat.load()) {
-      hb_cv.wait_for(l, std::chrono::milliseconds(std::max(200, lease_ms.load() / 3)));
-      if (stop_heartbeat.load() || !holding.load()) continue;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (drain.load()) {
+        std::lock_guard<std::mutex> l(lease_mu);
+        if (lease_ctx) lease_ctx->TryCancel();
+      }
+      if (Clock::now() - last < std::chrono::milliseconds(std::max(200, lease_ms.load() / 3)))
+        continue;
+      last = Clock::now();
+      if (!holding.load()) continue;
       grpc::ClientContext ctx;
       SetDeadline(ctx, 5000);
       v1::HeartbeatRequest req;
@@ -144,7 +152,16 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     {
       grpc::ClientContext ctx;
       SetDeadline(ctx, kLeaseWaitMs + 10000);
+      {
+        std::lock_guard<std::mutex> l(lease_mu);
+        lease_ctx = &ctx;
+      }
       grpc::Status s = stub->Lease(&ctx, lreq, &lease);
+      {
+        std::lock_guard<std::mutex> l(lease_mu);
+        lease_ctx = nullptr;
+      }
+      if (drain.load() && s.error_code() == grpc::StatusCode::CANCELLED) break;
       if (!s.ok()) {
         if (!Retryable(s)) {
           spdlog::error("lease refused: {} ({})", s.error_message(),
@@ -235,7 +252,6 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     holding = false;
   }
   stop_heartbeat = true;
-  hb_cv.notify_all();
   heartbeat.join();
   spdlog::info("worker {} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
                info.worker_id(), stats.evaluated, stats.reported, stats.duplicates,
