@@ -63,10 +63,16 @@ int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int gen
 int CmdHistory(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args, int generation);
 int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
-              int threads);
+              int threads, const std::string& out_dir);
 int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
-             int threads);
+             int threads, const std::string& out_dir);
+
+int CmdPlot(const GlobalOptions& g, const std::vector<std::string>& args,
+            const std::string& out_dir);
+// Writes the study's figures into out_dir; appends the files written.
+int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
+              const GlobalOptions& g, std::vector<std::string>* written);
 
 // Streams progress of a study until it ends, drawing a progress bar on a terminal.
 // Returns kOk if it completed.

@@ -19,6 +19,7 @@ namespace {
 // Starts workers against `target`, runs `start` (which returns the study id, or "" after
 // printing an error), watches the study to its end, then drains the workers.
 int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, int threads,
+                        const std::string& out_dir,
                         const std::function<std::string(v1::StudyService::Stub&)>& start,
                         int* start_code) {
   const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
@@ -37,6 +38,11 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
               << " thread(s); database " << g.db << "; logs in " << logs << "/\n";
   const int code = WatchUntilDone(conn.study(), id, g, 30 * 24 * 3600.0);
   for (pid_t p : pids) Stop(p, 10);
+  if (code == kOk) {
+    std::vector<std::string> figures;
+    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk && !g.json)
+      for (const auto& f : figures) std::cerr << "figure: " << f << "\n";
+  }
   if (!g.json && code == kOk)
     std::cerr << "next: gaitforge history " << id << " | gaitforge hof " << id
               << " | gaitforge show " << id << "\n";
@@ -46,7 +52,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
 }  // namespace
 
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
-             int threads) {
+             int threads, const std::string& out_dir) {
   if (args.size() != 1) {
     std::cerr << "gaitforge: usage: gaitforge local SPEC.yaml [--workers N] [--threads T]\n";
     return kUsage;
@@ -65,7 +71,7 @@ int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int w
   }
   int start_code = kOk;
   return RunWithLocalWorkers(
-      g, *conn, workers, threads,
+      g, *conn, workers, threads, out_dir,
       [&](v1::StudyService::Stub& stub) -> std::string {
         grpc::ClientContext ctx;
         SetDeadline(ctx, g.timeout_s);
@@ -81,7 +87,7 @@ int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int w
 }
 
 int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
-              int threads) {
+              int threads, const std::string& out_dir) {
   if (args.size() != 1) {
     std::cerr << "gaitforge: usage: gaitforge resume STUDY_ID\n";
     return kUsage;
@@ -112,7 +118,7 @@ int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int 
     std::cout << args[0] << " running\n";
     return kOk;
   }
-  return RunWithLocalWorkers(g, *conn, workers, threads, resume, &start_code);
+  return RunWithLocalWorkers(g, *conn, workers, threads, out_dir, resume, &start_code);
 }
 
 }  // namespace gaitforge::cli

@@ -21,6 +21,7 @@ const char* kCommands =
     "  hof ID          hall of fame (--generation G for an earlier one)\n"
     "  history ID      best, mean and diversity per generation (--json or --csv)\n"
     "  individuals ID  every member of --generation G (CSV, or --json)\n"
+    "  plot ID         figures as SVG files (fitness per generation) under --out\n"
     "  resume ID       continue a paused, cancelled or interrupted study\n"
     "  cancel ID       stop a study; its results stay\n"
     "\n"
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
   int workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int threads = 1;
   int generation = -1;
+  std::string out_dir = "runs/plots";
   core::Flags flags("gaitforge COMMAND [ARGS] [flags]",
                     "Evolves gaits and calibrates simulations of soft robots on a gaitforge "
                     "coordinator and its workers.\n\n" + std::string(kCommands));
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
   flags.Add("workers", &workers, "local/resume: worker processes to start (default: cores)");
   flags.Add("threads", &threads, "local/resume: evaluation threads per worker");
   flags.Add("generation", &generation, "hof/individuals: which generation");
+  flags.Add("out", &out_dir, "plot/local: directory for figures");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge: " << s.message() << "\n";
     return cli::kUsage;
@@ -67,7 +70,7 @@ int main(int argc, char** argv) {
   }
   const std::string cmd = pos[0];
   const std::vector<std::string> args(pos.begin() + 1, pos.end());
-  if (cmd == "local") return cli::CmdLocal(g, args, workers, threads);
+  if (cmd == "local") return cli::CmdLocal(g, args, workers, threads, out_dir);
   if (cmd == "submit") return cli::CmdSubmit(g, args);
   if (cmd == "watch") return cli::CmdWatch(g, args);
   if (cmd == "list") return cli::CmdList(g, args);
@@ -81,8 +84,9 @@ int main(int argc, char** argv) {
     }
     return cli::CmdIndividuals(g, args, generation);
   }
-  if (cmd == "resume") return cli::CmdResume(g, args, workers, threads);
+  if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
+  if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
   std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << kCommands;
   return cli::kUsage;
 }

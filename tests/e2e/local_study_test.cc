@@ -168,6 +168,15 @@ TEST(EndToEnd, LocalRunsTheEmbeddedDefaultAndLeavesItQueryable) {
                       "--workers 2 --json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
+  // The fitness figure, drawn by matplotlib.
+  int svgs = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.File("runs/plots"))) {
+    if (e.path().string().ends_with("-fitness.svg")) {
+      ++svgs;
+      EXPECT_NE(ReadFile(e.path().string()).find("<svg"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(svgs, 1);
   auto list = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " list");
   EXPECT_EQ(list.exit_code, 0) << list.err;
   EXPECT_NE(list.out.find("completed"), std::string::npos) << list.out;
