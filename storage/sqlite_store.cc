@@ -1,5 +1,6 @@
 #include <sqlite3.h>
 
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -235,10 +236,11 @@ class SqliteStore final : public StudyStore {
         GenerationRecord g;
         g.study_id = id;
         g.generation = static_cast<int>(q.Int(0));
-        g.best = q.Real(1);
-        g.mean = q.Real(2);
-        g.stddev = q.Real(3);
-        g.diversity = q.Real(4);
+        // NULL (an all-invalid generation's NaN) reads back as NaN, not 0.
+        g.best = q.OptReal(1).value_or(NAN);
+        g.mean = q.OptReal(2).value_or(NAN);
+        g.stddev = q.OptReal(3).value_or(NAN);
+        g.diversity = q.OptReal(4).value_or(NAN);
         g.evaluations = static_cast<int>(q.Int(5));
         g.invalid = static_cast<int>(q.Int(6));
         g.committed_ms = q.Int(7);

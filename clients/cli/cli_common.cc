@@ -108,6 +108,7 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
   v1::Progress last;
   bool any = false;
   int printed_gen = -1;
+  bool printed_any = false;
   auto started = std::chrono::steady_clock::now();
   while (reader->Read(&p)) {
     any = true;
@@ -125,10 +126,11 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
     } else if (!g.json) {
       // One line per ~10% of the study, and the last one.
       const int step = std::max(1, total / 10);
-      if (p.generations_done() / step != printed_gen / step ||
+      if (!printed_any || p.generations_done() / step != printed_gen / step ||
           p.state() != v1::STUDY_STATE_RUNNING) {
         std::cerr << line << "\n";
         printed_gen = p.generations_done();
+        printed_any = true;
       }
     }
   }

@@ -36,6 +36,19 @@ std::string Genes(const google::protobuf::RepeatedField<double>& genes) {
   return absl::StrJoin(parts, " ");
 }
 
+// Full precision, for files scripts read back.
+std::string GenesExact(const google::protobuf::RepeatedField<double>& genes) {
+  std::vector<std::string> parts;
+  for (double x : genes) parts.push_back(absl::StrFormat("%.17g", x));
+  return absl::StrJoin(parts, " ");
+}
+
+std::string CsvQuote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 void PrintSummary(const v1::StudySummary& s) {
   std::cout << "study        " << s.study_id() << "\n"
             << "name         " << s.spec().name() << "\n"
@@ -167,7 +180,7 @@ int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int gen
       std::cout << e.rank() << "," << e.individual().generation() << ","
                 << e.individual().member() << ","
                 << absl::StrFormat("%.17g", e.individual().evaluation().fitness()) << ","
-                << Genes(e.individual().genes()) << "\n";
+                << GenesExact(e.individual().genes()) << "\n";
     return kOk;
   }
   std::cout << "hall of fame after generation " << resp.generation() << "\n";
@@ -235,8 +248,8 @@ int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args,
   for (const auto& i : resp.individuals())
     std::cout << i.member() << "," << i.evaluation().valid() << ","
               << absl::StrFormat("%.17g", i.evaluation().fitness()) << "," << i.carried() << ","
-              << i.worker_id() << "," << i.eval_seconds() << ",\"" << i.evaluation().reason()
-              << "\"," << Genes(i.genes()) << "\n";
+              << i.worker_id() << "," << i.eval_seconds() << ","
+              << CsvQuote(i.evaluation().reason()) << "," << GenesExact(i.genes()) << "\n";
   return kOk;
 }
 

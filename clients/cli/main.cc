@@ -22,7 +22,7 @@ const char* kCommands =
     "  history ID      best, mean and diversity per generation (--json or --csv)\n"
     "  individuals ID  every member of --generation G (CSV, or --json)\n"
     "  plot ID         figures as SVG files (fitness per generation) under --out\n"
-    "  resume ID       continue a paused, cancelled or interrupted study\n"
+    "  resume ID       continue a cancelled or interrupted study\n"
     "  cancel ID       stop a study; its results stay\n"
     "\n"
     "Without --coordinator, commands work on the local database (--db), starting a private\n"

@@ -94,7 +94,12 @@ pid_t StartCoordinator(const std::string& db, bool read_only, const std::string&
   std::filesystem::remove(port_file, ec);
   if (port < 0) {
     Stop(pid, 1);
-    *error = "gaitforge-coordinator did not start; see " + log;
+    // The coordinator's last words say why (a locked database, a bad path, ...).
+    std::ifstream in(log);
+    std::string line, last;
+    while (std::getline(in, line))
+      if (!line.empty()) last = line;
+    *error = "gaitforge-coordinator did not start: " + last + " (log: " + log + ")";
     return -1;
   }
   *target = "127.0.0.1:" + std::to_string(port);

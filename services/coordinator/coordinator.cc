@@ -139,6 +139,9 @@ absl::Status Coordinator::Activate(const storage::StudyRecord& record) {
     stored = std::move(*rows);
   }
   std::lock_guard<std::mutex> l(mu_);
+  if (auto it = studies_.find(record.study_id);
+      it != studies_.end() && it->second->record.state == "running")
+    return absl::OkStatus();  // activated meanwhile (two resumes at once)
   Study& s = *study;
   studies_[record.study_id] = std::move(study);
   if (s.engine->Done()) {
@@ -388,6 +391,8 @@ absl::StatusOr<v1::StudySummary> Coordinator::ResumeStudy(const std::string& id)
 }
 
 absl::StatusOr<v1::StudySummary> Coordinator::CancelStudy(const std::string& id) {
+  if (options_.read_only)
+    return absl::FailedPreconditionError("this coordinator is read-only; it cancels nothing");
   auto r = Record(id);
   if (!r.ok()) return r.status();
   if (r->state == "completed" || r->state == "cancelled")

@@ -4,8 +4,8 @@
 // Flow of one generation: Ask() -> jobs in the queue -> workers Lease/Report -> when every
 // member has a result, Tell() (evaluations sorted by member) -> one store transaction with
 // the generation, engine state and hall of fame -> the next Ask().
-// Thread-safe: every public method takes mu_. gRPC adapters (study_service.h,
-// worker_service.h) only convert messages and statuses.
+// Thread-safe: every public method takes mu_. The gRPC adapters (services.h) only
+// convert messages and statuses.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>

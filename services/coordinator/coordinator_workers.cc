@@ -108,6 +108,12 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     }
     auto it = studies_.find(k.study_id());
     if (it == studies_.end()) {
+      // Work leased by an earlier coordinator process for a study this one does not run
+      // (finished or cancelled meanwhile): acknowledged, not counted.
+      if (r.lease_id() != 0 && (r.lease_id() >> 32) != queue_.epoch()) {
+        fate.push_back(Fate::kDuplicate);
+        continue;
+      }
       not_held.push_back(absl::StrCat(KeyText(k), ": no such study is scheduled here"));
       continue;
     }
@@ -204,6 +210,10 @@ void Coordinator::Tick() {
   for (auto& [id, batch] : rows) WatchWrite(store_->AppendResults(std::move(batch)), id);
   for (const auto& id : finished) CompleteGeneration(*studies_.at(id));
   if (queue_.pending() > 0) work_cv_.notify_all();
+  // Forget workers silent for ten lease periods (restarted workers get new ids).
+  const int64_t now = clock_.NowMs();
+  std::erase_if(workers_seen_,
+                [&](const auto& kv) { return now - kv.second > 10 * queue_.lease_ms(); });
   // Surface failed writes: the study stops rather than run on with a hole in its record.
   for (auto it = writes_.begin(); it != writes_.end();) {
     if (it->second.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
@@ -228,12 +238,11 @@ void Coordinator::Tick() {
 void Coordinator::Shutdown() {
   {
     std::lock_guard<std::mutex> l(mu_);
-    if (shutdown_) return;
     shutdown_ = true;
   }
   work_cv_.notify_all();
   change_cv_.notify_all();
-  (void)store_->Flush();
+  (void)store_->Flush();  // every write accepted so far is committed
 }
 
 queue::QueueCounters Coordinator::QueueStats() {

@@ -2,7 +2,10 @@
 // StudyService, the WorkerService and grpc.health.v1 on one port.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
+#include <unistd.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -75,6 +78,23 @@ int main(int argc, char** argv) {
   std::error_code ec;
   const auto parent = std::filesystem::path(db).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  // One writing coordinator per database: a second would resume the same studies.
+  if (!read_only) {
+    const std::string lock_path = db + ".lock";
+    const int fd = open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) return Fail("cannot open lock file " + lock_path);
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      char buf[32] = {0};
+      (void)!pread(fd, buf, sizeof buf - 1, 0);
+      return Fail("database " + db + " is in use by another coordinator (pid " +
+                  std::string(buf).substr(0, std::string(buf).find('\n')) +
+                  "); talk to it with --coordinator, or stop it first");
+    }
+    const std::string pid = std::to_string(getpid()) + "\n";
+    (void)!ftruncate(fd, 0);
+    (void)!pwrite(fd, pid.data(), pid.size(), 0);
+    // fd stays open (and locked) for the life of the process.
+  }
   auto store = storage::OpenSqliteStore(db, storage::Durability{sync == "full"});
   if (!store.ok()) return Fail(std::string(store.status().message()));
 

@@ -50,13 +50,18 @@ grpc::Status StudyServiceImpl::WatchStudy(grpc::ServerContext* ctx,
                                           grpc::ServerWriter<v1::Progress>* writer) {
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   int64_t sent_version = -1;
+  std::string sent;  // the last progress sent, serialized
   for (;;) {
     auto p = c_.Progress(req->study_id());
     if (!p.ok()) return ToGrpc(p.status());
-    if (p->second != sent_version) {
+    // Another coordinator may own the study (this one reads the file): compare content,
+    // not only this process's version.
+    std::string now = p->first.SerializeAsString();
+    if (now != sent) {
       if (!writer->Write(p->first)) return grpc::Status::OK;  // client went away
-      sent_version = p->second;
+      sent = std::move(now);
     }
+    sent_version = p->second;
     if (p->first.state() != v1::STUDY_STATE_RUNNING) return grpc::Status::OK;
     if (ctx->IsCancelled()) return grpc::Status::CANCELLED;
     // Progress is sent at most every 100 ms, so that fast studies do not flood the stream.

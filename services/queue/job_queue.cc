@@ -35,7 +35,7 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
   auto grant = [&](const JobKey& key, Job& job, bool backup) {
     const uint64_t id = NextLeaseId();
     job.holders.push_back(Holder{worker_id, id, now + options_.lease_ms});
-    job.issued.insert(id);
+    issued_[id] = Issued{key, worker_id};
     if (job.state == State::kPending) job.first_leased_ms = now;
     job.state = State::kLeased;
     ++counters_.leased;
@@ -78,7 +78,6 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
 
 ReportCheck JobQueue::Check(const std::string& worker_id, const JobKey& key,
                             uint64_t lease_id) const {
-  (void)worker_id;
   auto it = jobs_.find(key);
   if (it == jobs_.end()) return ReportCheck::kUnknown;
   const Job& job = it->second;
@@ -86,7 +85,10 @@ ReportCheck JobQueue::Check(const std::string& worker_id, const JobKey& key,
   // A lease id of another epoch was issued by a previous coordinator process: its result
   // is as good as any (results are pure functions of the job), so it may complete the job.
   if ((lease_id >> 32) != epoch_ && lease_id != 0) return ReportCheck::kOpen;
-  return job.issued.count(lease_id) ? ReportCheck::kOpen : ReportCheck::kNotHeld;
+  auto lease = issued_.find(lease_id);
+  if (lease == issued_.end() || lease->second.key != key || lease->second.worker_id != worker_id)
+    return ReportCheck::kNotHeld;
+  return ReportCheck::kOpen;
 }
 
 bool JobQueue::Complete(const JobKey& key) {

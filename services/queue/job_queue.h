@@ -98,7 +98,10 @@ class JobQueue {
     int64_t first_leased_ms = 0;
     bool backed_up = false;
     std::vector<Holder> holders;  // active leases
-    std::set<uint64_t> issued;    // every lease id ever issued for it (this epoch)
+  };
+  struct Issued {
+    JobKey key;
+    std::string worker_id;
   };
 
   uint64_t NextLeaseId() { return (static_cast<uint64_t>(epoch_) << 32) | ++lease_seq_; }
@@ -108,6 +111,9 @@ class JobQueue {
   uint32_t epoch_;
   uint32_t lease_seq_ = 0;
   std::map<JobKey, Job> jobs_;
+  // Every lease id this process issued, kept after its job is gone, so that a result that
+  // arrives after a cancel and resume is still recognised as held.
+  std::map<uint64_t, Issued> issued_;
   // FIFO of jobs waiting for a lease. May hold keys that were completed meanwhile (a late
   // result); LeaseJobs skips those.
   std::deque<JobKey> pending_;

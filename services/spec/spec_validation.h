@@ -22,7 +22,7 @@ void ApplyDefaults(gaitforge::v1::StudySpec* spec);
 // Every problem, in field order. Empty means valid. Call after ApplyDefaults.
 std::vector<FieldError> Validate(const gaitforge::v1::StudySpec& spec);
 
-// INVALID_ARGUMENT listing every error as "field 'path': message" (OK if none). With
+// INVALID_ARGUMENT listing every error as "field 'path' message" (OK if none). With
 // marks, each error is prefixed with "source:line:column: " where the field was written.
 absl::Status ValidationStatus(const std::vector<FieldError>& errors,
                               const LoadedSpec* where = nullptr);

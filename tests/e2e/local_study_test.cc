@@ -125,6 +125,23 @@ TEST(EndToEnd, TheCoordinatorServesGrpcHealth) {
   EXPECT_EQ(resp.status(), grpc::health::v1::HealthCheckResponse::SERVING);
 }
 
+TEST(EndToEnd, OneWritingCoordinatorPerDatabase) {
+  TempDir dir;
+  LocalCluster first(dir.path(), dir.File("r.db"));
+  ASSERT_TRUE(first.ok());
+  auto second = RunCommand(Bin("gaitforge-coordinator") + " --listen 127.0.0.1:0 --db " +
+                           dir.File("r.db"));
+  EXPECT_EQ(second.exit_code, 2);
+  EXPECT_NE(second.err.find("is in use by another coordinator"), std::string::npos)
+      << second.err;
+  // Readers are welcome: the CLI's embedded read-only coordinator still answers.
+  auto list = RunCommand(Bin("gaitforge") + " --db " + dir.File("r.db") + " list");
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  auto cancel = RunCommand(Bin("gaitforge") + " --db " + dir.File("r.db") + " cancel x");
+  EXPECT_EQ(cancel.exit_code, 4);
+  EXPECT_NE(cancel.err.find("in use by another coordinator"), std::string::npos) << cancel.err;
+}
+
 TEST(EndToEnd, BadInputGetsClearErrorsAndExitCodes) {
   TempDir dir;
   LocalCluster cluster(dir.path(), dir.File("r.db"));

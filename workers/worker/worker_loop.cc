@@ -142,7 +142,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     int want = options.threads * 4;
     if (mean_eval_s > 0)
       want = options.threads * static_cast<int>(std::ceil(kTargetBatchSeconds / mean_eval_s));
-    want = std::clamp(want, options.threads, std::max(options.threads, options.max_batch));
+    want = std::clamp(want, 1, options.max_batch);
 
     v1::LeaseRequest lreq;
     *lreq.mutable_worker() = info;

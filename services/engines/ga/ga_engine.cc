@@ -226,6 +226,13 @@ absl::Status GaEngine::LoadState(std::string_view state) {
     h.eval = ReadEval(r);
   }
   if (auto s = r.status("GA state"); !s.ok()) return s;
+  for (size_t m = 0; m < candidates.size(); ++m) {
+    if (candidates[m].member != static_cast<int>(m) ||
+        candidates[m].genes.size() != c.bounds.size())
+      return absl::DataLossError("GA state: malformed population");
+  }
+  if (generation < c.generations && candidates.size() != static_cast<size_t>(c.population))
+    return absl::DataLossError("GA state: population size does not match");
   generation_ = generation;
   candidates_ = std::move(candidates);
   hof_ = std::move(hof);

@@ -71,6 +71,9 @@ TEST_F(JobQueueTest, AWorkerCannotCompleteAJobItWasNeverLeased) {
   auto l = q_.LeaseJobs("w1", 1, kAll);
   EXPECT_EQ(q_.Check("w2", JobKey{"s", 0, 1}, 0), ReportCheck::kNotHeld);
   EXPECT_EQ(q_.Check("w2", JobKey{"s", 0, 1}, l[0].lease_id), ReportCheck::kNotHeld);
+  // Another worker presenting w1's lease id does not hold the job either.
+  EXPECT_EQ(q_.Check("w2", l[0].key, l[0].lease_id), ReportCheck::kNotHeld);
+  EXPECT_EQ(q_.Check("w1", l[0].key, l[0].lease_id), ReportCheck::kOpen);
   EXPECT_EQ(q_.Check("w2", JobKey{"s", 0, 9}, 1), ReportCheck::kUnknown);
   // A lease id from another coordinator epoch (before a restart) is honoured.
   const uint64_t old_epoch = (uint64_t{8} << 32) | 5;
