@@ -15,10 +15,13 @@
 namespace gaitforge::engines {
 
 // Fitness is "higher is better". Invalid evaluations rank below every valid one.
+// `violation` is the total amount by which the study's constraints are violated (0 when
+// feasible); see RanksBefore for how it ranks.
 struct Evaluation {
   bool valid = false;
   double fitness = 0.0;
   std::string reason;
+  double violation = 0.0;
 };
 
 struct Candidate {
@@ -65,8 +68,10 @@ class Engine {
   virtual absl::Status LoadState(std::string_view state) = 0;
 };
 
-// Orders members for ranking: valid before invalid, higher fitness first, then lower
-// member index (a total, deterministic order).
+// Orders members for ranking (Deb's feasibility rule, then a total deterministic order):
+// valid before invalid; feasible (violation 0) before infeasible; among feasible, higher
+// fitness first; among infeasible, smaller violation first; then lower member index.
+// Engines that need a scalar (roulette) treat infeasible members as weight 0.
 bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int member_b);
 
 }  // namespace gaitforge::engines

@@ -140,12 +140,13 @@ void GaEngine::Breed(const std::vector<Evaluation>& evals, const std::vector<int
 }
 
 namespace {
-constexpr uint32_t kStateMagic = 0x31414147;  // "GAA1"
+constexpr uint32_t kStateMagic = 0x32414147;  // "GAA2": evaluations carry a violation
 
 void WriteEval(core::ByteWriter& w, const Evaluation& e) {
   w.U32(e.valid ? 1 : 0);
   w.F64(e.fitness);
   w.Str(e.reason);
+  w.F64(e.violation);
 }
 
 Evaluation ReadEval(core::ByteReader& r) {
@@ -153,6 +154,7 @@ Evaluation ReadEval(core::ByteReader& r) {
   e.valid = r.U32() != 0;
   e.fitness = r.F64();
   e.reason = r.Str();
+  e.violation = r.F64();
   return e;
 }
 }  // namespace

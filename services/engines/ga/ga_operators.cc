@@ -8,20 +8,27 @@ namespace gaitforge::engines::ga {
 
 std::vector<double> RouletteWeights(const std::vector<Evaluation>& evals) {
   double f_min = std::numeric_limits<double>::infinity();
+  auto usable = [](const Evaluation& e) { return e.valid && e.violation <= 0.0; };
   for (const auto& e : evals) {
-    if (e.valid) f_min = std::min(f_min, e.fitness);
+    if (usable(e)) f_min = std::min(f_min, e.fitness);
   }
   std::vector<double> w(evals.size(), 0.0);
   double total = 0.0;
   bool any_valid = false;
   for (size_t i = 0; i < evals.size(); ++i) {
-    if (!evals[i].valid) continue;
+    if (!usable(evals[i])) continue;
     any_valid = true;
     w[i] = evals[i].fitness - f_min;
     total += w[i];
   }
   if (total > 0.0) return w;
-  for (size_t i = 0; i < evals.size(); ++i) w[i] = (evals[i].valid || !any_valid) ? 1.0 : 0.0;
+  // Nothing usable: fall back to the valid members, then to everyone.
+  bool any_plain_valid = false;
+  for (const auto& e : evals) any_plain_valid = any_plain_valid || e.valid;
+  for (size_t i = 0; i < evals.size(); ++i) {
+    if (any_valid) w[i] = usable(evals[i]) ? 1.0 : 0.0;
+    else w[i] = (evals[i].valid || !any_plain_valid) ? 1.0 : 0.0;
+  }
   return w;
 }
 

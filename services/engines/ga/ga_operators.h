@@ -11,8 +11,9 @@ namespace gaitforge::engines::ga {
 // Roulette weights: probability proportional to fitness. Roulette needs non-negative
 // weights, and distances can be negative, so weights are fitness minus the worst valid
 // fitness of the generation (w = f - f_min, "windowing"); the worst member gets weight 0.
-// Invalid members get 0. If every weight is 0 (all equal or all invalid), all members
-// that are valid (or, failing that, all members) get weight 1.
+// Invalid and infeasible members get 0. If every weight is 0 (all equal, or none valid
+// and feasible), the valid feasible members get weight 1, failing that the valid ones,
+// failing that all members.
 std::vector<double> RouletteWeights(const std::vector<Evaluation>& evals);
 
 // Index i drawn with probability weights[i] / sum(weights). Weights must be non-negative

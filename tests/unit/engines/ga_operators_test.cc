@@ -26,6 +26,18 @@ TEST(RouletteWeights, AllEqualFallsBackToUniformOverValid) {
   EXPECT_EQ(RouletteWeights(all_bad), (std::vector<double>{1, 1}));
 }
 
+TEST(RouletteWeights, InfeasibleMembersAreNeverParentsAndRankBelowFeasible) {
+  std::vector<Evaluation> e = {{true, 5.0, "", 0.3}, {true, 1.0, "", 0.0}, {true, 2.0, "", 0.0},
+                               {true, 9.0, "", 0.1}};
+  const auto w = RouletteWeights(e);
+  EXPECT_EQ(w, (std::vector<double>{0, 0, 1, 0}));
+  // Deb's rule: feasible by fitness, then infeasible by violation, whatever their fitness.
+  EXPECT_TRUE(RanksBefore(e[2], 2, e[1], 1));
+  EXPECT_TRUE(RanksBefore(e[1], 1, e[3], 3));
+  EXPECT_TRUE(RanksBefore(e[3], 3, e[0], 0));
+  EXPECT_TRUE(RanksBefore(e[0], 0, Evaluation{false, 0, "diverged"}, 4));
+}
+
 TEST(RouletteSelect, ProportionalToWeight) {
   const std::vector<double> w = {1, 0, 2, 3, 4};
   std::vector<int> counts(w.size(), 0);
