@@ -139,8 +139,8 @@ class SqliteStore final : public StudyStore {
       }
       Statement gen(db,
                     "INSERT INTO generations(study_id, generation, best, mean, stddev, diversity, "
-                    "evaluations, invalid, committed_ms, engine_state) "
-                    "VALUES (?,?,?,?,?,?,?,?,?,?)");
+                    "evaluations, invalid, committed_ms, engine_state, leases, lease_expiries, "
+                    "duplicates, backups, poisoned) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
       if (auto s = gen.Bind(1, g.study_id)
                        .Bind(2, g.generation)
                        .Bind(3, g.best)
@@ -151,6 +151,11 @@ class SqliteStore final : public StudyStore {
                        .Bind(8, g.invalid)
                        .Bind(9, g.committed_ms)
                        .BindBlob(10, g.engine_state)
+                       .Bind(11, g.counters.leases)
+                       .Bind(12, g.counters.lease_expiries)
+                       .Bind(13, g.counters.duplicates)
+                       .Bind(14, g.counters.backups)
+                       .Bind(15, g.counters.poisoned)
                        .Run();
           !s.ok())
         return s;
@@ -229,7 +234,8 @@ class SqliteStore final : public StudyStore {
     return WithReader([&](sqlite3* db) -> absl::StatusOr<std::vector<GenerationRecord>> {
       Statement q(db,
                   "SELECT generation, best, mean, stddev, diversity, evaluations, invalid, "
-                  "committed_ms FROM generations WHERE study_id = ? ORDER BY generation");
+                  "committed_ms, leases, lease_expiries, duplicates, backups, poisoned "
+                  "FROM generations WHERE study_id = ? ORDER BY generation");
       q.Bind(1, id);
       std::vector<GenerationRecord> out;
       while (q.Step()) {
@@ -244,6 +250,7 @@ class SqliteStore final : public StudyStore {
         g.evaluations = static_cast<int>(q.Int(5));
         g.invalid = static_cast<int>(q.Int(6));
         g.committed_ms = q.Int(7);
+        g.counters = JobCounters{q.Int(8), q.Int(9), q.Int(10), q.Int(11), q.Int(12)};
         out.push_back(std::move(g));
       }
       if (!q.status().ok()) return q.status();

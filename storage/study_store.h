@@ -64,6 +64,15 @@ struct HofRecord {
   double fitness = 0.0;
 };
 
+// What the job queue saw while a generation ran.
+struct JobCounters {
+  int64_t leases = 0;
+  int64_t lease_expiries = 0;
+  int64_t duplicates = 0;
+  int64_t backups = 0;
+  int64_t poisoned = 0;
+};
+
 struct GenerationRecord {
   std::string study_id;
   int generation = 0;
@@ -71,6 +80,7 @@ struct GenerationRecord {
   int evaluations = 0;  // members evaluated in this generation (not carried)
   int invalid = 0;
   int64_t committed_ms = 0;
+  JobCounters counters;
   std::string engine_state;
   std::vector<HofRecord> hall_of_fame;
   std::vector<IndividualRecord> carried;  // members not evaluated again

@@ -289,6 +289,8 @@ void Coordinator::CompleteGeneration(Study& s) {
                                                   h.eval.fitness});
   }
   rec.engine_state = s.engine->SaveState();
+  rec.counters = s.counters;
+  s.counters = {};
   rec.committed_ms = clock_.UnixMs();
   rec.study_state = s.engine->Done() ? "completed" : "running";
   rec.study_evaluations = s.evaluations;
@@ -449,6 +451,11 @@ absl::StatusOr<v1::GetHistoryResponse> Coordinator::History(const std::string& i
     s->set_evaluations(g.evaluations);
     s->set_invalid(g.invalid);
     s->set_committed_unix_ms(g.committed_ms);
+    s->set_leases(g.counters.leases);
+    s->set_lease_expiries(g.counters.lease_expiries);
+    s->set_duplicates(g.counters.duplicates);
+    s->set_backups(g.counters.backups);
+    s->set_poisoned(g.counters.poisoned);
   }
   return out;
 }

@@ -94,6 +94,7 @@ class Coordinator {
     int remaining = 0;
     int64_t evaluations = 0;  // distinct evaluated jobs, all generations
     std::deque<std::pair<int64_t, int64_t>> rate;  // (ms, evaluations) samples
+    storage::JobCounters counters;                  // current generation's
   };
 
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
@@ -125,6 +126,9 @@ class Coordinator {
   std::map<std::string, int64_t> workers_seen_;            // GUARDED_BY(mu_)
   std::vector<std::pair<std::string, std::future<absl::Status>>> writes_;  // GUARDED_BY(mu_)
   int64_t version_ = 0;                                    // GUARDED_BY(mu_)
+  // Smoothed time from lease to report of a batch; leases last 5x this (at least
+  // options_.lease_ms).
+  double batch_ms_ewma_ = 0;                               // GUARDED_BY(mu_)
   bool shutdown_ = false;                                  // GUARDED_BY(mu_)
 };
 

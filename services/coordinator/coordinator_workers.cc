@@ -58,7 +58,9 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
   v1::LeaseResponse out;
   out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
   for (const auto& lease : leases) {
-    const Study& s = *studies_.at(lease.key.study_id);
+    Study& s = *studies_.at(lease.key.study_id);
+    ++s.counters.leases;
+    if (lease.backup) ++s.counters.backups;
     auto* job = out.add_jobs();
     job->mutable_key()->set_study_id(lease.key.study_id);
     job->mutable_key()->set_generation(lease.key.generation);
@@ -153,14 +155,18 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
   v1::ReportResponse out;
   std::map<std::string, std::vector<storage::IndividualRecord>> rows;
   std::set<std::string> finished;
+  int64_t batch_ms = -1;
   for (int i = 0; i < req.results_size(); ++i) {
     const auto& r = req.results(i);
     const auto& k = r.key();
     if (fate[i] == Fate::kDuplicate) {
       out.set_duplicates(out.duplicates() + 1);
       queue_.CountDuplicate();
+      if (auto it = studies_.find(k.study_id()); it != studies_.end())
+        ++it->second->counters.duplicates;
       continue;
     }
+    batch_ms = std::max<int64_t>(batch_ms, queue_.LeaseAgeMs(r.lease_id()));
     Study& s = *studies_.at(k.study_id());
     queue_.Complete(queue::JobKey{k.study_id(), k.generation(), k.member()});
     Result res;
@@ -174,6 +180,12 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
   }
   for (auto& [id, batch] : rows) WatchWrite(store_->AppendResults(std::move(batch)), id);
   for (const auto& id : finished) CompleteGeneration(*studies_.at(id));
+  if (batch_ms >= 0) {
+    // Leases last about 5x the observed batch time, never less than the configured floor.
+    batch_ms_ewma_ = batch_ms_ewma_ == 0 ? batch_ms : 0.8 * batch_ms_ewma_ + 0.2 * batch_ms;
+    queue_.set_lease_ms(std::clamp<int64_t>(static_cast<int64_t>(5 * batch_ms_ewma_),
+                                            options_.lease_ms, 3600000));
+  }
   if (out.accepted() > 0) Bump();
   return out;
 }
@@ -190,16 +202,21 @@ absl::StatusOr<v1::HeartbeatResponse> Coordinator::Heartbeat(const v1::Heartbeat
 
 void Coordinator::Tick() {
   std::lock_guard<std::mutex> l(mu_);
-  const auto poisoned = queue_.ExpireLeases();
+  const auto expiry = queue_.ExpireLeases();
   std::map<std::string, std::vector<storage::IndividualRecord>> rows;
   std::set<std::string> finished;
-  for (const auto& key : poisoned) {
+  for (const auto& key : expiry.expired) {
+    if (auto it = studies_.find(key.study_id); it != studies_.end())
+      ++it->second->counters.lease_expiries;
+  }
+  for (const auto& key : expiry.poisoned) {
     auto it = studies_.find(key.study_id);
     if (it == studies_.end()) continue;
     Study& s = *it->second;
     if (s.engine->generation() != key.generation || s.results[key.member]) continue;
     spdlog::warn("study {} generation {} member {}: poisoned after {} lost leases", s.id,
                  key.generation, key.member, options_.max_attempts);
+    ++s.counters.poisoned;
     Result res;
     res.evaluation.set_valid(false);
     res.evaluation.set_reason(absl::StrCat("poisoned: ", options_.max_attempts,

@@ -35,7 +35,7 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
   auto grant = [&](const JobKey& key, Job& job, bool backup) {
     const uint64_t id = NextLeaseId();
     job.holders.push_back(Holder{worker_id, id, now + options_.lease_ms});
-    issued_[id] = Issued{key, worker_id};
+    issued_[id] = Issued{key, worker_id, now};
     if (job.state == State::kPending) job.first_leased_ms = now;
     job.state = State::kLeased;
     ++counters_.leased;
@@ -116,8 +116,13 @@ int JobQueue::Heartbeat(const std::string& worker_id) {
   return renewed;
 }
 
-std::vector<JobKey> JobQueue::ExpireLeases() {
-  std::vector<JobKey> poisoned;
+int64_t JobQueue::LeaseAgeMs(uint64_t lease_id) const {
+  auto it = issued_.find(lease_id);
+  return it == issued_.end() ? -1 : clock_.NowMs() - it->second.granted_ms;
+}
+
+Expiry JobQueue::ExpireLeases() {
+  Expiry out;
   const int64_t now = clock_.NowMs();
   for (auto& [key, job] : jobs_) {
     if (job.state != State::kLeased) continue;
@@ -126,19 +131,20 @@ std::vector<JobKey> JobQueue::ExpireLeases() {
     const size_t expired = before - job.holders.size();
     if (expired == 0) continue;
     counters_.expired += static_cast<int64_t>(expired);
+    for (size_t i = 0; i < expired; ++i) out.expired.push_back(key);
     if (!job.holders.empty()) continue;  // a backup copy is still out
     ++job.attempts;
     if (job.attempts >= options_.max_attempts) {
       job.state = State::kPoisoned;
       ++counters_.poisoned;
-      poisoned.push_back(key);
+      out.poisoned.push_back(key);
     } else {
       job.state = State::kPending;
       job.backed_up = false;
       pending_.push_front(key);  // retried before newer work
     }
   }
-  return poisoned;
+  return out;
 }
 
 void JobQueue::RemoveStudy(const std::string& study_id) {

@@ -47,6 +47,12 @@ enum class ReportCheck {
   kUnknown,    // no such job in the queue
 };
 
+// What one ExpireLeases call did.
+struct Expiry {
+  std::vector<JobKey> expired;   // one entry per lease that ran out
+  std::vector<JobKey> poisoned;  // jobs closed for good
+};
+
 struct QueueCounters {
   int64_t leased = 0;
   int64_t expired = 0;
@@ -71,8 +77,10 @@ class JobQueue {
   void CountDuplicate() { ++counters_.duplicates; }
   // Renews every lease of the worker; returns how many.
   int Heartbeat(const std::string& worker_id);
-  // Returns expired jobs to the queue; returns the keys poisoned by this call.
-  std::vector<JobKey> ExpireLeases();
+  // Returns expired jobs to the queue (or closes them as poisoned).
+  Expiry ExpireLeases();
+  // Milliseconds since this process granted `lease_id`; -1 if it did not.
+  int64_t LeaseAgeMs(uint64_t lease_id) const;
   // Forgets every job of the study (cancel, or a generation's bookkeeping when done).
   void RemoveStudy(const std::string& study_id);
   void RemoveGeneration(const std::string& study_id, int generation);
@@ -102,6 +110,7 @@ class JobQueue {
   struct Issued {
     JobKey key;
     std::string worker_id;
+    int64_t granted_ms;
   };
 
   uint64_t NextLeaseId() { return (static_cast<uint64_t>(epoch_) << 32) | ++lease_seq_; }

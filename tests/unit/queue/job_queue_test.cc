@@ -29,8 +29,11 @@ TEST_F(JobQueueTest, LeasesOldestFirstUpToMax) {
 TEST_F(JobQueueTest, ExpiredLeaseReturnsJobToTheQueue) {
   AddJobs(1);
   auto l = q_.LeaseJobs("w1", 1, kAll);
-  clock_.Advance(999);
-  EXPECT_TRUE(q_.ExpireLeases().empty());
+  clock_.Advance(400);
+  EXPECT_EQ(q_.LeaseAgeMs(l[0].lease_id), 400);
+  EXPECT_EQ(q_.LeaseAgeMs(12345), -1);
+  clock_.Advance(599);
+  EXPECT_TRUE(q_.ExpireLeases().expired.empty());
   EXPECT_EQ(q_.pending(), 0u);
   clock_.Advance(2);
   q_.ExpireLeases();
@@ -85,8 +88,9 @@ TEST_F(JobQueueTest, AJobIsPoisonedAfterMaxAttempts) {
   for (int attempt = 0; attempt < 3; ++attempt) {
     ASSERT_EQ(q_.LeaseJobs("w", 1, kAll).size(), 1u) << attempt;
     clock_.Advance(1001);
-    auto poisoned = q_.ExpireLeases();
-    EXPECT_EQ(poisoned.size(), attempt == 2 ? 1u : 0u);
+    auto expiry = q_.ExpireLeases();
+    EXPECT_EQ(expiry.expired.size(), 1u);
+    EXPECT_EQ(expiry.poisoned.size(), attempt == 2 ? 1u : 0u);
   }
   EXPECT_EQ(q_.counters().poisoned, 1);
   EXPECT_TRUE(q_.LeaseJobs("w", 1, kAll).empty());
