@@ -40,6 +40,13 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
       {"analytic.rastrigin",
        "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
        AnalyticParams(), CaterpillarGaitSpace(), 0},
+      {"caterpillar.distance",
+       "forward travel (m) per gait cycle of the lumped ODE caterpillar "
+       "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
+       {{"cycles", 1, 50, 1, "measured gait cycles; fitness is the mean travel per cycle (m)"},
+        {"settle_cycles", 0, 20, 2, "gait cycles from rest before measuring"},
+        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"}},
+       CaterpillarGaitSpace(), 13},
   };
   return catalog;
 }

@@ -9,6 +9,8 @@
 #include "services/core/flags.h"
 #include "services/core/logging.h"
 #include "workers/objectives/objective.h"
+#include "workers/sim/ode_runtime.h"
+#include "workers/worker/registry.h"
 #include "workers/worker/worker_loop.h"
 
 using namespace gaitforge;
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   core::SetupLogging("worker", log_level);
+  sim::InitProcess();  // ODE, once per process, before any thread starts
 
   sigset_t sigs;
   sigemptyset(&sigs);
@@ -60,6 +63,10 @@ int main(int argc, char** argv) {
   });
   signals.detach();
 
-  const auto registry = objectives::DefaultRegistry();
-  return worker::RunWorker(o, registry, drain);
+  auto registry = worker::WorkerRegistry();
+  if (!registry.ok()) {
+    std::cerr << "gaitforge-worker: " << registry.status().message() << "\n";
+    return 2;
+  }
+  return worker::RunWorker(o, *registry, drain);
 }

@@ -1,0 +1,75 @@
+#include "workers/models/caterpillar/caterpillar_objective.h"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "workers/models/caterpillar/caterpillar_eval.h"
+#include "workers/models/caterpillar/gait.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::caterpillar {
+namespace {
+
+// A param's value, its default when absent; false when outside [lo, hi] or not whole.
+bool Param(const objectives::EvalInput& in, const char* name, double lo, double hi,
+           double fallback, bool integer, double& value, std::string& error) {
+  auto it = in.params.find(name);
+  value = it == in.params.end() ? fallback : it->second;
+  if (!(value >= lo && value <= hi) || (integer && value != std::floor(value))) {
+    error = absl::StrCat("param ", name, " = ", value, " is outside [", lo, ", ", hi, "]",
+                         integer ? " (a whole number)" : "");
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInput& in) const {
+  sim::InitThread();  // once per thread; later calls are free
+  objectives::EvalResult r;
+  double cycles, settle, timestep_ms;
+  if (!Param(in, "cycles", 1, 50, params_.simulation.measured_cycles, true, cycles, r.reason) ||
+      !Param(in, "settle_cycles", 0, 20, params_.simulation.settle_cycles, true, settle,
+             r.reason) ||
+      !Param(in, "timestep_ms", 0.05, 2, params_.simulation.timestep_s * 1e3, false,
+             timestep_ms, r.reason)) {
+    return r;
+  }
+  for (const auto& [name, value] : in.params) {
+    if (name != "cycles" && name != "settle_cycles" && name != "timestep_ms") {
+      r.reason = "unknown param " + name;
+      return r;
+    }
+  }
+  auto gait = Gait::FromGenes(in.genes);
+  if (!gait.ok()) {
+    r.reason = std::string(gait.status().message());
+    return r;
+  }
+  EvalOptions options;
+  options.measured_cycles = static_cast<int>(cycles);
+  options.settle_cycles = static_cast<int>(settle);
+  options.timestep_s = timestep_ms * 1e-3;
+  const GaitEvaluation e = EvaluateGait(params_, *gait, options);
+  r.metrics["simulated_s"] = e.simulated_s;
+  if (!e.valid) {
+    r.reason = e.reason;
+    return r;
+  }
+  r.valid = true;
+  r.fitness = e.distance_per_cycle_m;
+  r.metrics["distance_per_cycle"] = e.distance_per_cycle_m;
+  r.metrics["max_body_pitch"] = e.max_body_pitch_rad;
+  r.metrics["max_stroke"] = e.max_stroke_m;
+  r.metrics["actuator_energy"] = e.actuator_energy_j;
+  r.metrics["airborne_fraction"] = e.airborne_fraction;
+  return r;
+}
+
+void RegisterCaterpillar(objectives::ObjectiveRegistry& registry) {
+  registry.Register(kCaterpillarObjectiveName,
+                    std::make_shared<CaterpillarObjective>(DefaultCaterpillarParams()));
+}
+
+}  // namespace gaitforge::caterpillar

@@ -1,0 +1,76 @@
+#pragma once
+// Every number of the lumped caterpillar model (../shared/robots/caterpillar.md), as read
+// from caterpillar.yaml. SI units throughout; the file documents each field and its range.
+#include <string>
+
+#include "absl/status/statusor.h"
+
+namespace gaitforge::caterpillar {
+
+struct LinkStiffness {
+  double axial_n_per_m = 0;        // along the body
+  double bending_nm_per_rad = 0;   // about y
+};
+
+struct CaterpillarParams {
+  struct Lumps {
+    double mass_kg = 0;
+    double size_x_m = 0, size_y_m = 0, size_z_m = 0;
+    double spacing_m = 0;
+  } lumps;
+  struct Links {
+    LinkStiffness flexure;   // links (1,2) (3,4) (5,6)
+    LinkStiffness segment;   // links (2,3) (4,5)
+    double axial_damping_ratio = 0;    // fraction of critical for the two-lump system
+    double bending_damping_ratio = 0;
+  } links;
+  struct Actuators {
+    double force_n = 0;
+    double return_spring_n_per_m = 0;  // zero force at min_length_m
+    double min_length_m = 0, max_length_m = 0;
+    double rear_attach_x_m = 0, front_attach_x_m = 0;
+    double top_attach_z_m = 0, bottom_attach_z_m = 0;
+    double stop_erp = 0, stop_cfm = 0;
+    double overrun_tolerance_m = 0;
+  } actuators;
+  struct Ground {
+    bool infinite_friction = true;
+    double friction_coefficient = 0;   // used when !infinite_friction
+    double contact_erp = 0, contact_cfm = 0;
+  } ground;
+  struct Markers {
+    double offset_x_m = 0, offset_z_m = 0;
+  } markers;
+  struct Simulation {
+    double gravity_m_per_s2 = 0;
+    double timestep_s = 0;
+    int settle_cycles = 0;
+    int measured_cycles = 0;
+    double solver_erp = 0, solver_cfm = 0;
+    double max_speed_m_per_s = 0;
+    double max_excursion_m = 0;
+  } simulation;
+
+  // Actuator length at the rest pose: spacing + front_attach_x - rear_attach_x.
+  double RestActuatorLength() const {
+    return lumps.spacing_m + actuators.front_attach_x_m - actuators.rear_attach_x_m;
+  }
+  // Link (i, i+1), i = 1..5: flexure for odd i, segment for even i.
+  const LinkStiffness& Link(int i) const { return i % 2 == 1 ? links.flexure : links.segment; }
+};
+
+// Parses YAML or JSON text (yaml-cpp reads both). `source` names the text in errors.
+// Every field is required, unknown fields are errors, and each number must lie in its
+// range; the error names source, line, field, unit and range:
+//   "caterpillar.yaml:10: lumps.mass_kg = -1 kg is outside [0.001, 1] kg".
+absl::StatusOr<CaterpillarParams> ParseCaterpillarParams(const std::string& text,
+                                                         const std::string& source);
+absl::StatusOr<CaterpillarParams> LoadCaterpillarParams(const std::string& path);
+
+// The installed caterpillar.yaml (GAITFORGE_CATERPILLAR_PARAMS), read once. Throws
+// std::runtime_error when that file is missing or invalid: a broken installation.
+const CaterpillarParams& DefaultCaterpillarParams();
+// Its path.
+const char* DefaultCaterpillarParamsPath();
+
+}  // namespace gaitforge::caterpillar

@@ -1,0 +1,242 @@
+#include "workers/models/caterpillar/caterpillar_sim.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::caterpillar {
+namespace {
+
+// Contact with no friction rows beyond the normal: lump-lump touches and stroke stops.
+dContact FrictionlessContact() {
+  dContact c{};
+  c.surface.mode = dContactMu2;
+  c.surface.mu = 0;
+  c.surface.mu2 = 0;
+  return c;
+}
+
+}  // namespace
+
+CaterpillarSim::CaterpillarSim(const CaterpillarParams& params, const BuildOptions& options,
+                               double timestep_s)
+    : params_(params),
+      h_(timestep_s > 0 ? timestep_s : params.simulation.timestep_s),
+      world_() {
+  dWorldSetGravity(world_.world(), 0, 0,
+                   options.gravity ? -params.simulation.gravity_m_per_s2 : 0.0);
+  dWorldSetERP(world_.world(), params.simulation.solver_erp);
+  dWorldSetCFM(world_.world(), params.simulation.solver_cfm);
+  body_ = std::make_unique<CaterpillarBody>(world_.world(), world_.space(), params, options, h_);
+  for (int k = 0; k < body_->lump_count(); ++k) start_.push_back(body_->Position(k));
+  MeasureLengths();
+}
+
+void CaterpillarSim::MeasureLengths() {
+  lengths_.resize(body_->actuators().size());
+  for (size_t i = 0; i < lengths_.size(); ++i) {
+    Vec3 r, f;
+    double rate;
+    body_->ActuatorState(body_->actuators()[i], r, f, lengths_[i], rate);
+  }
+}
+
+// Per actuator: ON, the constant push (paper, 8.8 N); always, the return spring, zero at
+// min length; then the stroke stops. Stroke limits are off every joint axis, so each is a
+// one-row contact joint along the actuator line (ode-notes.md, "Contact"), created while
+// the length predicted for the end of the step, with a margin of the largest length change
+// one step of actuator force can add, reaches a limit. Speculative: dContactMotionN lets the
+// length close the remaining gap in this step but not pass it; a length already past the
+// limit is pushed back by stop_erp.
+void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
+  const auto& a = params_.actuators;
+  const double margin = h_ * h_ * 2 * a.force_n / params_.lumps.mass_kg;
+  for (const auto& act : body_->actuators()) {
+    Vec3 r, f;
+    double len, rate;
+    body_->ActuatorState(act, r, f, len, rate);
+    const bool on = (on_mask >> act.index) & 1u;
+    const double push = (on ? a.force_n : 0.0) - a.return_spring_n_per_m * (len - a.min_length_m);
+    const double ux = (f.x - r.x) / len, uy = (f.y - r.y) / len, uz = (f.z - r.z) / len;
+    dBodyAddForceAtPos(act.front, push * ux, push * uy, push * uz, f.x, f.y, f.z);
+    dBodyAddForceAtPos(act.rear, -push * ux, -push * uy, -push * uz, r.x, r.y, r.z);
+
+    const double predicted = len + h_ * rate;
+    const bool at_max = predicted + margin >= a.max_length_m;
+    const bool at_min = predicted - margin <= a.min_length_m;
+    if (!at_max && !at_min) continue;
+    dContact c = FrictionlessContact();
+    c.surface.mode |= dContactSoftERP | dContactSoftCFM | dContactMotionN;
+    c.surface.soft_erp = a.stop_erp;
+    c.surface.soft_cfm = a.stop_cfm;
+    const double gap = at_max ? a.max_length_m - len : len - a.min_length_m;
+    c.geom.pos[0] = 0.5 * (r.x + f.x);  // on the actuator line: forces act along it
+    c.geom.pos[1] = 0.5 * (r.y + f.y);
+    c.geom.pos[2] = 0.5 * (r.z + f.z);
+    c.geom.normal[0] = ux;
+    c.geom.normal[1] = uy;
+    c.geom.normal[2] = uz;
+    c.geom.depth = gap < 0 ? -gap : 0;
+    c.surface.motionN = gap > 0 ? -gap / h_ : 0;
+    dJointID j = dJointCreateContact(world_.world(), world_.contacts(), &c);
+    // Body 1 is pushed along +normal: the rear lump at the max stop, the front at the min.
+    if (at_max) {
+      dJointAttach(j, act.rear, act.front);
+    } else {
+      dJointAttach(j, act.front, act.rear);
+    }
+  }
+}
+
+// The ground z = 0 touches the corners of each lump's x-z section (the bottom face's front
+// and rear edges when flat; any corner after a flip). Motion is planar, so one contact per
+// edge on the centre plane stands for the box's two corners. Infinite friction (paper) is an
+// unbounded row along x; a lump needs one (on its deepest corner), since the friction rows
+// of two corners on one face would be the same row twice. None is needed across the plane.
+void CaterpillarSim::AddGroundContacts() {
+  ground_contacts_ = 0;
+  if (!body_->options().ground) return;
+  const auto& L = params_.lumps;
+  const auto& g = params_.ground;
+  dContact c{};
+  c.surface.mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM;
+  if (!g.infinite_friction) c.surface.mode |= dContactApprox1;
+  c.surface.mu2 = 0;
+  c.surface.soft_erp = g.contact_erp;
+  c.surface.soft_cfm = g.contact_cfm;
+  c.geom.normal[2] = 1;
+  c.fdir1[0] = 1;
+  for (int k = 0; k < body_->lump_count(); ++k) {
+    dBodyID b = body_->lump(k);
+    dVector3 corners[4];
+    int deepest = -1;
+    for (int corner = 0; corner < 4; ++corner) {
+      const double cx = (corner & 1 ? 0.5 : -0.5) * L.size_x_m;
+      const double cz = (corner & 2 ? 0.5 : -0.5) * L.size_z_m;
+      dBodyGetRelPointPos(b, cx, 0, cz, corners[corner]);
+      if (corners[corner][2] <= 0 && (deepest < 0 || corners[corner][2] < corners[deepest][2])) {
+        deepest = corner;
+      }
+    }
+    for (int corner = 0; corner < 4; ++corner) {
+      const dReal* p = corners[corner];
+      if (p[2] > 0) continue;
+      c.geom.pos[0] = p[0];
+      c.geom.pos[1] = p[1];
+      c.geom.pos[2] = p[2];
+      c.geom.depth = -p[2];
+      const double mu = g.infinite_friction ? dInfinity : g.friction_coefficient;
+      c.surface.mu = corner == deepest ? mu : 0;
+      dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), b, nullptr);
+      ++ground_contacts_;
+    }
+  }
+}
+
+// Lumps that are not neighbours may touch when the body folds; neighbours always overlap at
+// the link and must not collide (unfiltered, they made the no-slip feet slide). Pairs whose
+// centres are farther apart than a box diagonal cannot touch and are skipped.
+void CaterpillarSim::AddLumpContacts() {
+  const auto& L = params_.lumps;
+  const double reach2 = L.size_x_m * L.size_x_m + L.size_y_m * L.size_y_m + L.size_z_m * L.size_z_m;
+  const int n = body_->lump_count();
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 2; j < n; ++j) {
+      const Vec3 a = body_->Position(i), b = body_->Position(j);
+      const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+      if (dx * dx + dy * dy + dz * dz > reach2) continue;
+      dContactGeom geoms[8];
+      const int count = dCollide(body_->geom(i), body_->geom(j), 8, geoms, sizeof(dContactGeom));
+      for (int k = 0; k < count; ++k) {
+        dContact c = FrictionlessContact();
+        c.geom = geoms[k];
+        // Fold onto the centre plane: forces stay in x-z.
+        c.geom.pos[1] = 0;
+        c.geom.normal[1] = 0;
+        const double len = std::hypot(c.geom.normal[0], c.geom.normal[2]);
+        if (len < 1e-6) continue;
+        c.geom.normal[0] /= len;
+        c.geom.normal[2] /= len;
+        dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), body_->lump(i),
+                     body_->lump(j));
+      }
+    }
+  }
+}
+
+sim::SimOutcome CaterpillarSim::Step(uint32_t on_mask) {
+  const std::vector<double> before = lengths_;
+  try {
+    ApplyActuators(on_mask);
+    AddGroundContacts();
+    AddLumpContacts();
+    body_->UpdateLinkAngles();
+    world_.Step(h_);
+  } catch (const sim::OdeError& e) {
+    ++steps_;
+    std::ostringstream out;
+    out << e.what() << " at t = " << time() << " s";
+    return sim::SimOutcome::Failed(out.str());
+  }
+  ++steps_;
+  MeasureLengths();
+  last_work_ = 0;
+  for (size_t i = 0; i < lengths_.size(); ++i) {
+    if ((on_mask >> body_->actuators()[i].index) & 1u) {
+      last_work_ += params_.actuators.force_n * (lengths_[i] - before[i]);
+    }
+  }
+  return CheckState();
+}
+
+sim::SimOutcome CaterpillarSim::CheckState() {
+  const auto& s = params_.simulation;
+  const auto& a = params_.actuators;
+  auto fail = [&](const std::string& what) {
+    std::ostringstream out;
+    out << "diverged at t = " << time() << " s: " << what
+        << " (h*omega_max = " << body_->MaxStepOmega(h_)
+        << "; stable while (h omega)^2 < 4 + 4 zeta h omega)";
+    return sim::SimOutcome::Failed(out.str());
+  };
+  const double max_spin = 2 * s.max_speed_m_per_s / params_.lumps.size_x_m;
+  for (int k = 0; k < body_->lump_count(); ++k) {
+    const int lump = body_->options().first_lump + k;
+    const dReal* p = dBodyGetPosition(body_->lump(k));
+    const dReal* v = dBodyGetLinearVel(body_->lump(k));
+    const dReal* w = dBodyGetAngularVel(body_->lump(k));
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isfinite(p[i]) || !std::isfinite(v[i]) || !std::isfinite(w[i])) {
+        return fail("non-finite state of lump " + std::to_string(lump));
+      }
+    }
+    const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double spin = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    const double dx = p[0] - start_[k].x, dy = p[1] - start_[k].y, dz = p[2] - start_[k].z;
+    if (speed > s.max_speed_m_per_s) {
+      return fail("lump " + std::to_string(lump) + " speed " + std::to_string(speed) + " m/s");
+    }
+    if (spin > max_spin) {
+      return fail("lump " + std::to_string(lump) + " spin " + std::to_string(spin) + " rad/s");
+    }
+    if (std::sqrt(dx * dx + dy * dy + dz * dz) > s.max_excursion_m) {
+      return fail("lump " + std::to_string(lump) + " left the " +
+                  std::to_string(s.max_excursion_m) + " m region");
+    }
+  }
+  for (size_t i = 0; i < lengths_.size(); ++i) {
+    if (lengths_[i] < a.min_length_m - a.overrun_tolerance_m ||
+        lengths_[i] > a.max_length_m + a.overrun_tolerance_m) {
+      static const char* kNames[] = {"T1", "T2", "T3", "B1", "B2", "B3"};
+      std::ostringstream out;
+      out << "actuator " << kNames[body_->actuators()[i].index] << " length " << lengths_[i]
+          << " m beyond its stroke [" << a.min_length_m << ", " << a.max_length_m
+          << "] m by more than " << a.overrun_tolerance_m << " m";
+      return fail(out.str());
+    }
+  }
+  return sim::SimOutcome::Ok();
+}
+
+}  // namespace gaitforge::caterpillar

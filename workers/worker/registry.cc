@@ -1,0 +1,19 @@
+#include "workers/worker/registry.h"
+
+#include <stdexcept>
+
+#include "workers/models/caterpillar/caterpillar_objective.h"
+
+namespace gaitforge::worker {
+
+absl::StatusOr<objectives::ObjectiveRegistry> WorkerRegistry() {
+  objectives::ObjectiveRegistry registry = objectives::DefaultRegistry();
+  try {
+    caterpillar::RegisterCaterpillar(registry);
+  } catch (const std::exception& e) {
+    return absl::FailedPreconditionError(e.what());
+  }
+  return registry;
+}
+
+}  // namespace gaitforge::worker
