@@ -6,5 +6,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/build.sh
-SPEC=${GAITFORGE_SPEC:-examples/analytic-ga.yaml}
+SPEC=${GAITFORGE_SPEC:-examples/caterpillar-ga.yaml}
 exec build/bin/gaitforge local "$SPEC" "$@"

@@ -74,6 +74,18 @@ int CmdPlot(const GlobalOptions& g, const std::vector<std::string>& args,
 int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
               const GlobalOptions& g, std::vector<std::string>* written);
 
+int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
+              const std::string& out_dir);
+int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, int rank,
+                  int generation, const std::string& out, double rate, int cycles);
+// The caterpillar paper's figures (gait diagrams, period sweep, travelling wave) for the
+// study's `top` best gaits, and the best one's marker trajectory, into out_dir.
+int CaterpillarReport(v1::StudyService::Stub& stub, const std::string& id,
+                      const std::string& out_dir, const GlobalOptions& g, int top,
+                      std::vector<std::string>* written);
+// Runs clients/python/gaitforge_plot.py with args; returns its exit code.
+int RunPlotScript(const std::vector<std::string>& args);
+
 // Streams progress of a study until it ends, drawing a progress bar on a terminal.
 // Returns kOk if it completed.
 int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const GlobalOptions& g,

@@ -16,6 +16,16 @@ int LoadSpec(const std::string& path, v1::StudySpec* out);
 
 namespace {
 
+bool IsCaterpillar(Connection& conn, const std::string& id, const GlobalOptions& g) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(id);
+  v1::StudySummary s;
+  return conn.study().GetStudy(&ctx, req, &s).ok() &&
+         s.spec().objective().name() == "caterpillar.distance";
+}
+
 // Starts workers against `target`, runs `start` (which returns the study id, or "" after
 // printing an error), watches the study to its end, then drains the workers.
 int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, int threads,
@@ -40,8 +50,12 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   for (pid_t p : pids) Stop(p, 10);
   if (code == kOk) {
     std::vector<std::string> figures;
-    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk && !g.json)
-      for (const auto& f : figures) std::cerr << "figure: " << f << "\n";
+    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk && IsCaterpillar(conn, id, g)) {
+      if (!g.json) std::cerr << "drawing the caterpillar paper's figures...\n";
+      CaterpillarReport(conn.study(), id, out_dir, g, 3, &figures);
+    }
+    if (!g.json)
+      for (const auto& f : figures) std::cerr << "wrote " << f << "\n";
   }
   if (!g.json && code == kOk)
     std::cerr << "next: gaitforge history " << id << " | gaitforge hof " << id

@@ -22,6 +22,10 @@ const char* kCommands =
     "  history ID      best, mean and diversity per generation (--json or --csv)\n"
     "  individuals ID  every member of --generation G (CSV, or --json)\n"
     "  plot ID         figures as SVG files (fitness per generation) under --out\n"
+    "  report ID       caterpillar studies: fitness, gait diagrams, period sweep, travelling\n"
+    "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out\n"
+    "  trajectory ID   markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
+    "                  --rank R, --generation G, --rate HZ, --cycles N)\n"
     "  resume ID       continue a cancelled or interrupted study\n"
     "  cancel ID       stop a study; its results stay\n"
     "\n"
@@ -38,6 +42,10 @@ int main(int argc, char** argv) {
   int threads = 1;
   int generation = -1;
   std::string out_dir = "runs/plots";
+  std::string output;
+  int rank = 0;
+  int cycles = 3;
+  double rate = 100;
   core::Flags flags("gaitforge COMMAND [ARGS] [flags]",
                     "Evolves gaits and calibrates simulations of soft robots on a gaitforge "
                     "coordinator and its workers.\n\n" + std::string(kCommands));
@@ -50,7 +58,11 @@ int main(int argc, char** argv) {
   flags.Add("workers", &workers, "local/resume: worker processes to start (default: cores)");
   flags.Add("threads", &threads, "local/resume: evaluation threads per worker");
   flags.Add("generation", &generation, "hof/individuals: which generation");
-  flags.Add("out", &out_dir, "plot/local: directory for figures");
+  flags.Add("out", &out_dir, "plot/report/local: directory for figures");
+  flags.Add("output", &output, "trajectory: CSV file to write");
+  flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
+  flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
+  flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge: " << s.message() << "\n";
     return cli::kUsage;
@@ -87,6 +99,9 @@ int main(int argc, char** argv) {
   if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
+  if (cmd == "report") return cli::CmdReport(g, args, out_dir);
+  if (cmd == "trajectory")
+    return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);
   std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << kCommands;
   return cli::kUsage;
 }

@@ -24,7 +24,9 @@ std::string Python() {
   return "/usr/bin/python3";  // Debian's, which sees python3-matplotlib
 }
 
-int RunPython(const std::vector<std::string>& args) {
+}  // namespace
+
+int RunPlotScript(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {Python(), PlotScript()};
   argv.insert(argv.end(), args.begin(), args.end());
   pid_t pid = fork();
@@ -41,8 +43,6 @@ int RunPython(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
-}  // namespace
-
 int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
               const GlobalOptions& g, std::vector<std::string>* written) {
   grpc::ClientContext ctx;
@@ -57,7 +57,7 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
   const std::string json = out_dir + "/" + id + "-history.json";
   std::ofstream(json) << ToJson(resp) << "\n";
   const std::string svg = out_dir + "/" + id + "-fitness.svg";
-  if (RunPython({"fitness", "--history", json, "--out", svg, "--title", id}) != 0) {
+  if (RunPlotScript({"fitness", "--history", json, "--out", svg, "--title", id}) != 0) {
     std::cerr << "gaitforge: plotting failed (needs " << Python()
               << " with python3-matplotlib; script " << PlotScript() << ")\n";
     return kFailed;

@@ -12,6 +12,9 @@ namespace gaitforge::cli {
 std::string SiblingBinary(const std::string& name);
 // Starts argv[0] with stdout and stderr appended to log_path. Returns the pid, or -1.
 pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path);
+// Runs argv to completion, capturing its stdout (stderr passes through). Returns the exit
+// code (-1 if it could not start or was killed).
+int RunCapture(const std::vector<std::string>& argv, std::string* out);
 // SIGTERM, then SIGKILL after grace_s; reaps the child.
 void Stop(pid_t pid, double grace_s);
 // Waits for the coordinator's --port-file; returns the port or -1 (child died or timeout).

@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """Figures of gaitforge studies, drawn with matplotlib.
 
-  fitness   best and mean fitness per generation (with the population's spread) from the
-            JSON of `gaitforge history ID --json`.
+  fitness      best and mean fitness per generation (with the population's spread) from the
+               JSON of `gaitforge history ID --json`.
+  caterpillar  the caterpillar paper's figures from the JSON `gaitforge report` writes:
+               gait diagrams of the best gaits (paper 000 Fig. 8), distance per cycle as
+               their period is scaled (Fig. 13), and the travelling-wave baseline (Fig. 14).
 
 Usage:
   gaitforge_plot.py fitness --history HISTORY.json --out FILE.svg [--title TEXT]
+  gaitforge_plot.py caterpillar --report REPORT.json --out-prefix PREFIX
 
 The `gaitforge plot ID` command calls this script; run it under /usr/bin/python3 (Debian's
 python3-matplotlib).
@@ -47,6 +51,90 @@ def fitness(args):
     return 0
 
 
+ACTUATORS = ["T1", "T2", "T3", "B1", "B2", "B3"]
+
+
+def on_windows(a, d):
+    """Phase intervals in [0, 1) where an actuator is ON: [a, d), wrapping when d < a."""
+    a, d = a % 1.0, d % 1.0
+    if a == d:
+        return []
+    if a < d:
+        return [(a, d - a)]
+    return [(a, 1.0 - a), (0.0, d)]
+
+
+def gait_diagrams(report, out):
+    gaits = report["gaits"]
+    fig, axes = plt.subplots(len(gaits), 1, figsize=(7, 1.9 * len(gaits) + 0.4), squeeze=False)
+    for ax, gait in zip(axes[:, 0], gaits):
+        genes = gait["genes"]
+        for j in range(6):
+            ax.broken_barh(on_windows(genes[j], genes[6 + j]), (5 - j - 0.35, 0.7),
+                           color="tab:red" if j < 3 else "tab:blue")
+        ax.set_yticks(range(6))
+        ax.set_yticklabels(ACTUATORS[::-1])
+        ax.set_xlim(0, 1)
+        ax.set_ylim(-0.6, 5.6)
+        ax.grid(axis="x", alpha=0.3)
+        ax.set_title(f"rank {gait['rank']}: {100 * gait['fitness']:.2f} cm/cycle, "
+                     f"T = {genes[12]:.3f} s (from generation {gait['generation']})", fontsize=9)
+    axes[-1, 0].set_xlabel("phase of the gait period")
+    fig.suptitle("best gaits: actuators ON (cf. paper 000 Fig. 8)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out)
+
+
+def period_sweep(report, out):
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for gait in report["gaits"]:
+        pts = [p for p in gait["period_sweep"] if p["valid"]]
+        ax.plot([p["scale"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
+                marker="o", ms=3, label=f"rank {gait['rank']} (T = {gait['genes'][12]:.2f} s)")
+    ax.axvline(1.0, color="grey", ls="--", lw=1)
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("period / evolved period")
+    ax.set_ylabel("distance per cycle (cm), mean of 10 cycles")
+    ax.set_title("period sweep of the best gaits (cf. paper 000 Fig. 13)", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out)
+
+
+def wave(report, out):
+    pts = [p for p in report["wave"] if p["valid"]]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot([p["period_s"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
+            marker="o", ms=3, color="tab:green", label="travelling wave")
+    if pts:
+        best = max(pts, key=lambda p: p["distance_per_cycle_m"])
+        ax.plot([best["period_s"]], [100 * best["distance_per_cycle_m"]], "k*", ms=10,
+                label=f"best wave: {100 * best['distance_per_cycle_m']:.2f} cm at "
+                      f"T = {best['period_s']:.2f} s")
+    if report["gaits"]:
+        g = report["gaits"][0]
+        ax.axhline(100 * g["fitness"], color="tab:red", ls="--",
+                   label=f"best evolved gait: {100 * g['fitness']:.2f} cm")
+    ax.set_xlabel("period T (s)")
+    ax.set_ylabel("distance per cycle (cm), mean of 10 cycles")
+    ax.set_title("travelling-wave baseline (cf. paper 000 Fig. 14)", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out)
+
+
+def caterpillar(args):
+    with open(args.report) as f:
+        report = json.load(f)
+    for name, draw in (("gaits", gait_diagrams), ("period-sweep", period_sweep), ("wave", wave)):
+        out = f"{args.out_prefix}-{name}.svg"
+        draw(report, out)
+        print(out)
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     sub = ap.add_subparsers(dest="figure", required=True)
@@ -56,6 +144,10 @@ def main():
     f.add_argument("--title", default="fitness per generation")
     f.add_argument("--ylabel", default="fitness (higher is better)")
     f.set_defaults(run=fitness)
+    c = sub.add_parser("caterpillar", help="the caterpillar paper's figures from a report JSON")
+    c.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
+    c.add_argument("--out-prefix", required=True, help="files PREFIX-gaits.svg etc.")
+    c.set_defaults(run=caterpillar)
     args = ap.parse_args()
     return args.run(args)
 

@@ -199,5 +199,54 @@ TEST(EndToEnd, LocalRunsTheEmbeddedDefaultAndLeavesItQueryable) {
   EXPECT_NE(list.out.find("completed"), std::string::npos) << list.out;
 }
 
+TEST(EndToEnd, CaterpillarStudyRunsInOdeAndReportsThePapersFigures) {
+  TempDir dir;
+  WriteFile(dir.File("cat.yaml"), "name: cat\nseed: 3\npopulation: 16\ngenerations: 3\n"
+                                  "objective: {name: caterpillar.distance}\n"
+                                  "ga: {elite: 4}\n");
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
+                      " local cat.yaml --workers 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string db = dir.File("runs/gaitforge.db");
+  // Every evaluation ran the ODE model: its metrics are stored with the result.
+  EXPECT_EQ(Rows(db, "SELECT COUNT(DISTINCT member) FROM metrics WHERE name = "
+                     "'distance_per_cycle' AND generation = 0")[0],
+            "16|");
+  EXPECT_EQ(Rows(db, "SELECT COUNT(*) FROM individuals WHERE carried = 0 AND valid = 1 AND "
+                     "fitness = (SELECT value FROM metrics m WHERE m.study_id = "
+                     "individuals.study_id AND m.generation = individuals.generation AND "
+                     "m.member = individuals.member AND m.name = 'distance_per_cycle')")[0],
+            Rows(db, "SELECT COUNT(*) FROM individuals WHERE carried = 0 AND valid = 1")[0]);
+  // The paper's figures and the best gait's markers.
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir.File("runs/plots")))
+    files.push_back(e.path().filename().string());
+  for (const char* suffix : {"-fitness.svg", "-gaits.svg", "-period-sweep.svg", "-wave.svg",
+                             "-best-trajectory.csv", "-report.json"}) {
+    EXPECT_EQ(std::count_if(files.begin(), files.end(),
+                            [&](const std::string& f) { return f.ends_with(suffix); }),
+              1)
+        << suffix;
+  }
+  // Any hall-of-fame member's trajectory, in the recordings' CSV format.
+  const std::string id = Rows(db, "SELECT study_id FROM studies")[0];
+  auto t = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " trajectory " +
+                      id.substr(0, id.size() - 1) + " --rank 2 --rate 50 --cycles 2 " +
+                      "--output r2.csv");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const std::string csv = ReadFile(dir.File("r2.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "t,m1.x,m1.y,m1.z,m2.x,m2.y,m2.z,m3.x,m3.y,m3.z,m4.x,m4.y,m4.z,m5.x,m5.y,m5.z,m6.x,"
+            "m6.y,m6.z");
+  const auto lines = std::count(csv.begin(), csv.end(), '\n');
+  EXPECT_GT(lines, 10);
+  EXPECT_NE(ReadFile(dir.File("r2.csv.json")).find("\"robot\": \"caterpillar\""),
+            std::string::npos);
+  auto bad = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " trajectory " +
+                        id.substr(0, id.size() - 1) + " --rank 99 --output x.csv");
+  EXPECT_EQ(bad.exit_code, 3);
+  EXPECT_NE(bad.err.find("--rank = 99 is out of range [0, 3]"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

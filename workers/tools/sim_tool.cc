@@ -1,0 +1,156 @@
+#include "workers/tools/sim_tool.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "workers/models/caterpillar/gait.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::simtool {
+namespace {
+
+std::string JsonEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += absl::StrFormat("\\u%04x", c);
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+// Runs fn(i) for i in [0, n) on `threads` threads (each initialised for ODE).
+template <typename F>
+void ParallelFor(int n, int threads, F fn) {
+  std::atomic<int> next{0};
+  std::vector<std::thread> pool;
+  for (int t = 0; t < std::max(1, threads); ++t) {
+    pool.emplace_back([&] {
+      sim::InitThread();
+      for (int i = next++; i < n; i = next++) fn(i);
+    });
+  }
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace
+
+absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
+                            const std::string& params_path, const std::vector<double>& genes,
+                            const std::string& note) {
+  std::ofstream csv(csv_path);
+  if (!csv) return absl::UnavailableError(absl::StrCat("cannot write ", csv_path));
+  csv << "t";
+  for (int i = 1; i <= 6; ++i) csv << ",m" << i << ".x,m" << i << ".y,m" << i << ".z";
+  csv << "\n";
+  for (size_t k = 0; k < m.t.size(); ++k) {
+    csv << absl::StrFormat("%.6f", m.t[k]);
+    for (int i = 0; i < 6; ++i)
+      csv << absl::StrFormat(",%.9g,%.9g,%.9g", m.x[i][k], m.y[i][k], m.z[i][k]);
+    csv << "\n";
+  }
+  std::ofstream side(csv_path + ".json");
+  side << "{\n  \"robot\": \"caterpillar\",\n  \"parameters\": \"" << JsonEscape(params_path)
+       << "\",\n  \"command\": {\"kind\": \"gait\", \"genes\": [";
+  for (size_t i = 0; i < genes.size(); ++i) side << (i ? ", " : "") << absl::StrFormat("%.17g", genes[i]);
+  side << "]},\n  \"source\": \"simulation\",\n  \"note\": \"" << JsonEscape(note) << "\"\n}\n";
+  if (!csv || !side) return absl::DataLossError(absl::StrCat("write failed: ", csv_path));
+  return absl::OkStatus();
+}
+
+std::vector<SweepPoint> PeriodSweep(const caterpillar::CaterpillarParams& params,
+                                    const std::vector<double>& genes,
+                                    const std::vector<double>& scales,
+                                    const caterpillar::EvalOptions& options, int threads) {
+  std::vector<SweepPoint> out(scales.size());
+  ParallelFor(static_cast<int>(scales.size()), threads, [&](int i) {
+    std::vector<double> g = genes;
+    g[12] = genes[12] * scales[i];
+    out[i].scale = scales[i];
+    out[i].period_s = g[12];
+    auto gait = caterpillar::Gait::FromGenes(g);
+    if (!gait.ok()) {
+      out[i].eval.reason = std::string(gait.status().message());
+      return;
+    }
+    out[i].eval = caterpillar::EvaluateGait(params, *gait, options);
+  });
+  return out;
+}
+
+std::vector<SweepPoint> WaveSweep(const caterpillar::CaterpillarParams& params,
+                                  const std::vector<double>& periods,
+                                  const caterpillar::EvalOptions& options, int threads) {
+  std::vector<SweepPoint> out(periods.size());
+  ParallelFor(static_cast<int>(periods.size()), threads, [&](int i) {
+    out[i].period_s = periods[i];
+    auto gait = caterpillar::Gait::FromGenes(caterpillar::TravellingWaveGenes(periods[i]));
+    if (!gait.ok()) {
+      out[i].eval.reason = std::string(gait.status().message());
+      return;
+    }
+    out[i].eval = caterpillar::EvaluateGait(params, *gait, options);
+  });
+  return out;
+}
+
+std::string SweepJson(const std::vector<SweepPoint>& points) {
+  std::string out = "[";
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    absl::StrAppend(&out, i ? ",\n " : "",
+                    absl::StrFormat("{\"scale\": %.6g, \"period_s\": %.9g, \"valid\": %s, "
+                                    "\"distance_per_cycle_m\": %.9g, \"airborne_fraction\": %.6g, "
+                                    "\"actuator_energy_j\": %.6g, \"reason\": \"%s\"}",
+                                    p.scale, p.period_s, p.eval.valid ? "true" : "false",
+                                    p.eval.valid ? p.eval.distance_per_cycle_m : 0.0,
+                                    p.eval.airborne_fraction, p.eval.actuator_energy_j,
+                                    JsonEscape(p.eval.reason)));
+  }
+  return out + "]";
+}
+
+absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric) {
+  std::vector<std::string> parts = absl::StrSplit(text, ',');
+  if (parts.size() != 3)
+    return absl::InvalidArgumentError(absl::StrCat("expected FROM,TO,COUNT, got '", text, "'"));
+  char* end;
+  const double a = std::strtod(parts[0].c_str(), &end), b = std::strtod(parts[1].c_str(), &end);
+  const int n = std::atoi(parts[2].c_str());
+  if (!(a > 0) || !(b >= a) || n < 1 || n > 1000)
+    return absl::InvalidArgumentError(
+        absl::StrCat("'", text, "': need 0 < FROM <= TO and COUNT in [1, 1000]"));
+  std::vector<double> v(n);
+  for (int i = 0; i < n; ++i) {
+    const double f = n == 1 ? 0 : static_cast<double>(i) / (n - 1);
+    v[i] = geometric ? a * std::pow(b / a, f) : a + (b - a) * f;
+  }
+  return v;
+}
+
+absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text) {
+  std::vector<double> g;
+  for (const auto& p : absl::StrSplit(text, absl::ByAnyChar(", "), absl::SkipEmpty())) {
+    char* end;
+    const std::string s(p);
+    const double x = std::strtod(s.c_str(), &end);
+    if (*end || !std::isfinite(x))
+      return absl::InvalidArgumentError(absl::StrCat("--genes: '", s, "' is not a number"));
+    g.push_back(x);
+  }
+  if (g.size() != 13)
+    return absl::InvalidArgumentError(
+        absl::StrCat("--genes: expected 13 numbers (a_T1..a_B3, d_T1..d_B3, T), got ", g.size()));
+  return g;
+}
+
+}  // namespace gaitforge::simtool

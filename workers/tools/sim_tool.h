@@ -1,0 +1,42 @@
+#pragma once
+// One-shot simulations of the caterpillar for reports and exports (gaitforge-sim): the
+// same model and build as the workers, run on this machine, no coordinator involved.
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "workers/models/caterpillar/caterpillar_eval.h"
+#include "workers/models/caterpillar/caterpillar_params.h"
+
+namespace gaitforge::simtool {
+
+// Writes markers as a recording CSV (docs/recording-format.md: t, m1.x .. m6.z in metres)
+// and its JSON sidecar (robot, parameter file, command).
+absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
+                            const std::string& params_path, const std::vector<double>& genes,
+                            const std::string& note);
+
+struct SweepPoint {
+  double scale = 0;    // period multiplier (period sweep) or 0 (wave)
+  double period_s = 0;
+  caterpillar::GaitEvaluation eval;
+};
+
+// Evaluates `genes` with the period multiplied by each scale (same phase pattern).
+std::vector<SweepPoint> PeriodSweep(const caterpillar::CaterpillarParams& params,
+                                    const std::vector<double>& genes,
+                                    const std::vector<double>& scales,
+                                    const caterpillar::EvalOptions& options, int threads);
+
+// The travelling-wave baseline at each period.
+std::vector<SweepPoint> WaveSweep(const caterpillar::CaterpillarParams& params,
+                                  const std::vector<double>& periods,
+                                  const caterpillar::EvalOptions& options, int threads);
+
+std::string SweepJson(const std::vector<SweepPoint>& points);
+
+// "a,b,n": n values evenly spaced from a to b (geometric when `geometric`).
+absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric);
+absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text);
+
+}  // namespace gaitforge::simtool
