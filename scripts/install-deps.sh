@@ -7,7 +7,8 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev libeigen3-dev libode-dev
-  libbenchmark-dev libyaml-cpp-dev
+  libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev openssl
+  iproute2 nftables
   python3 python3-matplotlib python3-numpy
 )
 

@@ -1,6 +1,7 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -76,12 +77,13 @@ StudyRecord ReadStudy(Statement& q) {
   r.created_ms = q.Int(10);
   r.updated_ms = q.Int(11);
   r.error = q.Text(12);
+  r.sim_build = q.Text(13);
   return r;
 }
 
 constexpr const char* kStudyColumns =
     "study_id, name, spec, spec_json, state, generations_total, generations_done, "
-    "best_fitness, mean_fitness, evaluations, created_ms, updated_ms, error";
+    "best_fitness, mean_fitness, evaluations, created_ms, updated_ms, error, sim_build";
 
 class SqliteStore final : public StudyStore {
  public:
@@ -103,7 +105,7 @@ class SqliteStore final : public StudyStore {
   std::future<absl::Status> CreateStudy(const StudyRecord& s) override {
     return Submit([s](sqlite3* db) {
       Statement q(db, absl::StrCat("INSERT INTO studies(", kStudyColumns,
-                                   ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)"));
+                                   ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?)"));
       return q.Bind(1, s.study_id)
           .Bind(2, s.name)
           .BindBlob(3, s.spec)
@@ -117,6 +119,7 @@ class SqliteStore final : public StudyStore {
           .Bind(11, s.created_ms)
           .Bind(12, s.updated_ms)
           .Bind(13, s.error)
+          .Bind(14, s.sim_build)
           .Run();
     });
   }
@@ -191,6 +194,14 @@ class SqliteStore final : public StudyStore {
     });
   }
 
+  std::future<absl::Status> SetStudySimBuild(const std::string& id,
+                                             const std::string& build) override {
+    return Submit([id, build](sqlite3* db) -> absl::Status {
+      Statement q(db, "UPDATE studies SET sim_build = ? WHERE study_id = ?");
+      return q.Bind(1, build).Bind(2, id).Run();
+    });
+  }
+
   std::future<absl::Status> SetStudyState(const std::string& id, const std::string& state,
                                           const std::string& error) override {
     return Submit([id, state, error](sqlite3* db) -> absl::Status {
@@ -202,6 +213,11 @@ class SqliteStore final : public StudyStore {
       if (sqlite3_changes(db) == 0) return absl::NotFoundError(absl::StrCat("study ", id));
       return absl::OkStatus();
     });
+  }
+
+  void SetCommitObserver(std::function<void(double)> observer) override {
+    std::lock_guard<std::mutex> l(mu_);
+    observer_ = std::move(observer);
   }
 
   absl::Status Flush() override {
@@ -427,12 +443,15 @@ class SqliteStore final : public StudyStore {
   void WriterLoop() {
     for (;;) {
       std::deque<Pending> batch;
+      std::function<void(double)> observer;
       {
         std::unique_lock<std::mutex> l(mu_);
         cv_.wait(l, [&] { return stopping_ || !queue_.empty(); });
         if (queue_.empty() && stopping_) return;
         batch.swap(queue_);
+        observer = observer_;
       }
+      const auto started = std::chrono::steady_clock::now();
       std::vector<absl::Status> results;
       absl::Status begin = Exec(writer_, "BEGIN IMMEDIATE");
       for (auto& p : batch) {
@@ -459,6 +478,8 @@ class SqliteStore final : public StudyStore {
           }
         }
       }
+      if (observer)
+        observer(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
       for (size_t i = 0; i < batch.size(); ++i) batch[i].done.set_value(results[i]);
     }
   }
@@ -492,6 +513,7 @@ class SqliteStore final : public StudyStore {
   std::condition_variable cv_;
   std::deque<Pending> queue_;  // guarded by mu_
   bool stopping_ = false;      // guarded by mu_
+  std::function<void(double)> observer_;  // guarded by mu_
   std::thread thread_;
   std::mutex readers_mu_;
   std::vector<sqlite3*> readers_;       // guarded by readers_mu_ (all, for closing)

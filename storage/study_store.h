@@ -10,6 +10,7 @@
 //    fame, carried members and the study's progress in one transaction;
 //  - reads use their own connections and never wait for the writer.
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -36,6 +37,7 @@ struct StudyRecord {
   int64_t created_ms = 0;
   int64_t updated_ms = 0;
   std::string error;
+  std::string sim_build;  // pinned by the first lease; empty until then
 };
 
 struct IndividualRecord {
@@ -102,6 +104,8 @@ class StudyStore {
   virtual std::future<absl::Status> CreateStudy(const StudyRecord& study) = 0;
   virtual std::future<absl::Status> AppendResults(std::vector<IndividualRecord> results) = 0;
   virtual std::future<absl::Status> CommitGeneration(GenerationRecord generation) = 0;
+  virtual std::future<absl::Status> SetStudySimBuild(const std::string& study_id,
+                                                     const std::string& sim_build) = 0;
   virtual std::future<absl::Status> SetStudyState(const std::string& study_id,
                                                   const std::string& state,
                                                   const std::string& error) = 0;
@@ -121,6 +125,9 @@ class StudyStore {
       const std::string& study_id) = 0;
   // Blocks until every write submitted so far is committed.
   virtual absl::Status Flush() = 0;
+  // Called on the writer thread after each transaction with its duration in seconds. Set
+  // before the first write.
+  virtual void SetCommitObserver(std::function<void(double)> observer) = 0;
 };
 
 // Opens (creating if needed) the SQLite file at `path`, applies migrations, sets WAL.

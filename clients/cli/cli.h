@@ -18,6 +18,7 @@ enum ExitCode {
   kNotFound = 3,           // unknown study id or generation
   kUnavailable = 4,        // no coordinator reachable
   kFailed = 5,             // any other error
+  kDenied = 6,             // missing or wrong token (UNAUTHENTICATED, PERMISSION_DENIED)
 };
 
 struct GlobalOptions {
@@ -26,13 +27,19 @@ struct GlobalOptions {
   double timeout_s = 30;         // deadline of every unary call
   bool json = false;
   bool csv = false;
+  std::string tls_ca, tls_cert, tls_key;  // TLS to --coordinator
+  std::string token;                      // bearer token (client role), from a file or env
 };
+
+// The token every call of this process carries (set once by main).
+void SetCallToken(const std::string& token);
 
 // A connection to a coordinator: a given address, or an embedded read-only coordinator
 // started on the database file for the life of this object.
 class Connection {
  public:
   static std::unique_ptr<Connection> Open(const GlobalOptions& g, bool writable, std::string* error);
+  std::shared_ptr<grpc::Channel> channel() const { return channel_; }
   ~Connection();
   v1::StudyService::Stub& study() { return *study_; }
   const std::string& target() const { return target_; }

@@ -8,21 +8,25 @@
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "services/rpc/channel.h"
 
 namespace gaitforge::cli {
 
+namespace {
+std::string& CallToken() {
+  static std::string token;
+  return token;
+}
+}  // namespace
+
+void SetCallToken(const std::string& token) { CallToken() = token; }
+
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
-  grpc::ChannelArguments args;
-  args.SetMaxReceiveMessageSize(64 << 20);
-  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 20000);
-  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
-  args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
-  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+  return *rpc::MakeChannel(rpc::ChannelOptions{target, "", "", "", ""});
 }
 
 void SetDeadline(grpc::ClientContext& ctx, double seconds) {
-  ctx.set_deadline(std::chrono::system_clock::now() +
-                   std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+  rpc::PrepareCall(ctx, seconds, CallToken());
 }
 
 std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writable,
@@ -40,7 +44,15 @@ std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writab
     c->pid_ = StartCoordinator(g.db, !writable, logs.empty() ? "logs" : logs, &c->target_, error);
     if (c->pid_ < 0) return nullptr;
   }
-  c->channel_ = MakeChannel(c->target_);
+  // The embedded coordinator listens on loopback in plaintext; a named one as configured.
+  rpc::ChannelOptions o{c->target_, "", "", "", ""};
+  if (!g.coordinator.empty()) o = {c->target_, g.tls_ca, g.tls_cert, g.tls_key, g.token};
+  auto channel = rpc::MakeChannel(o);
+  if (!channel.ok()) {
+    *error = std::string(channel.status().message());
+    return nullptr;
+  }
+  c->channel_ = *channel;
   c->study_ = v1::StudyService::NewStub(c->channel_);
   return c;
 }
@@ -63,6 +75,9 @@ int ReportRpcError(const grpc::Status& s, const std::string& what) {
     case grpc::StatusCode::UNAVAILABLE:
     case grpc::StatusCode::DEADLINE_EXCEEDED:
       return kUnavailable;
+    case grpc::StatusCode::UNAUTHENTICATED:
+    case grpc::StatusCode::PERMISSION_DENIED:
+      return kDenied;
     default:
       return kFailed;
   }

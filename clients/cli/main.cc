@@ -5,6 +5,7 @@
 
 #include "clients/cli/cli.h"
 #include "services/core/flags.h"
+#include "services/rpc/channel.h"
 
 using namespace gaitforge;
 
@@ -31,7 +32,8 @@ const char* kCommands =
     "\n"
     "Without --coordinator, commands work on the local database (--db), starting a private\n"
     "coordinator for as long as they run. Exit codes: 0 ok, 1 study ended not completed,\n"
-    "2 bad input, 3 not found, 4 coordinator unavailable, 5 other error (docs/cli.md).\n";
+    "2 bad input, 3 not found, 4 coordinator unavailable, 5 other error, 6 token missing\n"
+    "or not allowed (docs/cli.md).\n";
 
 }  // namespace
 
@@ -58,6 +60,11 @@ int main(int argc, char** argv) {
   flags.Add("workers", &workers, "local/resume: worker processes to start (default: cores)");
   flags.Add("threads", &threads, "local/resume: evaluation threads per worker");
   flags.Add("generation", &generation, "hof/individuals: which generation");
+  flags.Add("tls-ca", &g.tls_ca, "PEM CA: connect to --coordinator with TLS, trusting this CA");
+  flags.Add("tls-cert", &g.tls_cert, "PEM client certificate (for servers that require one)");
+  flags.Add("tls-key", &g.tls_key, "PEM key of --tls-cert");
+  std::string token_file;
+  flags.Add("token-file", &token_file, "file holding the client token (else env GAITFORGE_TOKEN)");
   flags.Add("out", &out_dir, "plot/report/local: directory for figures");
   flags.Add("output", &output, "trajectory: CSV file to write");
   flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
@@ -80,6 +87,13 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge: --timeout must be in (0, 86400] seconds\n";
     return cli::kUsage;
   }
+  auto token = rpc::LoadToken(token_file, "GAITFORGE_TOKEN");
+  if (!token.ok()) {
+    std::cerr << "gaitforge: " << token.status().message() << "\n";
+    return cli::kUsage;
+  }
+  g.token = *token;
+  cli::SetCallToken(g.coordinator.empty() ? "" : g.token);
   const std::string cmd = pos[0];
   const std::vector<std::string> args(pos.begin() + 1, pos.end());
   if (cmd == "local") return cli::CmdLocal(g, args, workers, threads, out_dir);

@@ -37,6 +37,9 @@ pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // A private coordinator takes no tokens from the user's environment.
+  for (const char* v : {"GAITFORGE_CLIENT_TOKEN", "GAITFORGE_WORKER_TOKEN", "GAITFORGE_ADMIN_TOKEN"})
+    unsetenv(v);
   sigset_t none;
   sigemptyset(&none);
   sigprocmask(SIG_SETMASK, &none, nullptr);

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "absl/strings/str_cat.h"
+#include "services/coordinator/metrics.h"
 #include "services/engines/ga/ga_engine.h"
 #include "services/spec/spec_validation.h"
 
@@ -92,7 +93,7 @@ absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   study->engine = std::move(*engine);
   Study& s = *study;
   studies_[r.study_id] = std::move(study);
-  spdlog::info("study {} created: {} x {}, objective {}", s.id, s.spec.population(),
+  spdlog::info("study={} created: {} x {}, objective {}", s.id, s.spec.population(),
                s.spec.generations(), s.spec.objective().name());
   StartGeneration(s, {});
   Bump();
@@ -106,7 +107,7 @@ absl::Status Coordinator::RecoverStudies() {
   for (const auto& r : *all) {
     if (r.state != "running") continue;
     if (auto s = Activate(r); !s.ok()) {
-      spdlog::error("study {}: cannot resume: {}", r.study_id, std::string(s.message()));
+      spdlog::error("study={} cannot resume: {}", r.study_id, std::string(s.message()));
       std::lock_guard<std::mutex> l(mu_);
       WatchWrite(store_->SetStudyState(r.study_id, "failed", std::string(s.message())),
                  r.study_id);
@@ -148,7 +149,7 @@ absl::Status Coordinator::Activate(const storage::StudyRecord& record) {
     SetState(s, "completed", "");
     return absl::OkStatus();
   }
-  spdlog::info("study {} resumed at generation {} ({} results already stored)", s.id,
+  spdlog::info("study={} resumed at generation={} ({} results already stored)", s.id,
                s.engine->generation(), stored.size());
   StartGeneration(s, stored);
   Bump();
@@ -278,7 +279,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   rec.diversity = n_genes ? div / n_genes : 0;
 
   if (auto st = s.engine->Tell(evals); !st.ok()) {
-    spdlog::error("study {}: engine rejected generation {}: {}", s.id, g, std::string(st.message()));
+    spdlog::error("study={} engine rejected generation={}: {}", s.id, g, std::string(st.message()));
     queue_.RemoveStudy(s.id);
     SetState(s, "failed", absl::StrCat("engine: ", st.message()));
     return;
@@ -303,12 +304,14 @@ void Coordinator::CompleteGeneration(Study& s) {
   s.record.evaluations = s.evaluations;
   s.record.state = rec.study_state;
   s.record.updated_ms = rec.committed_ms;
-  spdlog::debug("study {} generation {} done: best {} mean {}", s.id, g, rec.best, rec.mean);
+  spdlog::debug("study={} generation={} done: best {} mean {}", s.id, g, rec.best, rec.mean);
+  if (options_.metrics)
+    options_.metrics->SetStudy(s.id, g + 1, s.record.best_fitness.value_or(NAN));
   WatchWrite(store_->CommitGeneration(std::move(rec)), s.id);
   queue_.RemoveGeneration(s.id, g);
   Bump();
   if (s.engine->Done()) {
-    spdlog::info("study {} completed after {} generations, best fitness {}", s.id, g + 1,
+    spdlog::info("study={} completed after {} generations, best fitness {}", s.id, g + 1,
                  s.record.best_fitness.value_or(NAN));
     return;
   }

@@ -27,6 +27,8 @@
 
 namespace gaitforge::coordinator {
 
+class Metrics;
+
 struct CoordinatorOptions {
   // Lease length; a heartbeat renews it. Default 10 s.
   int64_t lease_ms = 10000;
@@ -38,6 +40,8 @@ struct CoordinatorOptions {
   bool read_only = false;
   // Shown in StudySummary.db_path.
   std::string db_path;
+  // Prometheus metrics to update (optional; not owned).
+  class Metrics* metrics = nullptr;
 };
 
 class Coordinator {

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "services/coordinator/coordinator.h"
+#include "services/coordinator/metrics.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -40,10 +41,18 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
                                          req.worker().objectives().end());
   std::unique_lock<std::mutex> l(mu_);
   workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  const std::string& build = req.worker().sim_build();
+  bool refused_build = false;  // jobs were there, but of a study pinned to another build
   auto accept = [&](const queue::JobKey& k) {
     auto it = studies_.find(k.study_id);
     if (it == studies_.end() || it->second->record.state != "running") return false;
-    return objectives.empty() || objectives.count(it->second->spec.objective().name()) > 0;
+    if (!objectives.empty() && !objectives.count(it->second->spec.objective().name())) return false;
+    const std::string& pinned = it->second->record.sim_build;
+    if (!pinned.empty() && pinned != build) {
+      refused_build = true;
+      return false;
+    }
+    return true;
   };
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(req.wait_ms());
   std::vector<queue::Lease> leases;
@@ -55,10 +64,24 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
       break;
     }
   }
+  if (leases.empty() && refused_build)
+    return absl::FailedPreconditionError(absl::StrCat(
+        "simulator build '", build, "' of worker '", req.worker().worker_id(),
+        "' differs from the build the studies' results come from; run workers of that build"));
   v1::LeaseResponse out;
   out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
+  if (options_.metrics) {
+    int backups = 0;
+    for (const auto& lease : leases) backups += lease.backup;
+    options_.metrics->Leased(static_cast<int>(leases.size()), backups);
+  }
   for (const auto& lease : leases) {
     Study& s = *studies_.at(lease.key.study_id);
+    if (s.record.sim_build.empty()) {
+      // The first lease pins the study to this simulator build.
+      s.record.sim_build = build;
+      WatchWrite(store_->SetStudySimBuild(s.id, build), s.id);
+    }
     ++s.counters.leases;
     if (lease.backup) ++s.counters.backups;
     auto* job = out.add_jobs();
@@ -120,6 +143,11 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
       continue;
     }
     const Study& s = *it->second;
+    if (!s.record.sim_build.empty() && s.record.sim_build != req.worker().sim_build()) {
+      not_held.push_back(absl::StrCat(KeyText(k), ": simulator build '", req.worker().sim_build(),
+                                      "' differs from the study's '", s.record.sim_build, "'"));
+      continue;
+    }
     const int g = s.engine->Done() ? s.record.generations_total : s.engine->generation();
     if (k.generation() < g || s.record.state != "running") {
       fate.push_back(Fate::kDuplicate);  // its generation is already committed
@@ -162,11 +190,15 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     if (fate[i] == Fate::kDuplicate) {
       out.set_duplicates(out.duplicates() + 1);
       queue_.CountDuplicate();
+      if (options_.metrics) options_.metrics->Duplicates(1);
       if (auto it = studies_.find(k.study_id()); it != studies_.end())
         ++it->second->counters.duplicates;
       continue;
     }
-    batch_ms = std::max<int64_t>(batch_ms, queue_.LeaseAgeMs(r.lease_id()));
+    // Only leases still alive measure the batch time: a stalled worker's late result would
+    // stretch every lease.
+    if (const int64_t age = queue_.LeaseAgeMs(r.lease_id()); age <= queue_.lease_ms())
+      batch_ms = std::max<int64_t>(batch_ms, age);
     Study& s = *studies_.at(k.study_id());
     queue_.Complete(queue::JobKey{k.study_id(), k.generation(), k.member()});
     Result res;
@@ -174,6 +206,8 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     if (!res.evaluation.valid()) res.evaluation.set_fitness(0);
     res.worker_id = req.worker().worker_id();
     res.eval_seconds = r.eval_seconds();
+    if (options_.metrics)
+      options_.metrics->Evaluated(r.evaluation().valid() ? "valid" : "invalid", r.eval_seconds());
     Accept(s, k.member(), std::move(res), &rows[s.id]);
     out.set_accepted(out.accepted() + 1);
     if (s.remaining == 0) finished.insert(s.id);
@@ -209,18 +243,24 @@ void Coordinator::Tick() {
     if (auto it = studies_.find(key.study_id); it != studies_.end())
       ++it->second->counters.lease_expiries;
   }
+  if (options_.metrics) {
+    const int poisoned = static_cast<int>(expiry.poisoned.size());
+    const int expired = static_cast<int>(expiry.expired.size());
+    options_.metrics->Expired(expired, std::max(0, expired - poisoned), poisoned);
+  }
   for (const auto& key : expiry.poisoned) {
     auto it = studies_.find(key.study_id);
     if (it == studies_.end()) continue;
     Study& s = *it->second;
     if (s.engine->generation() != key.generation || s.results[key.member]) continue;
-    spdlog::warn("study {} generation {} member {}: poisoned after {} lost leases", s.id,
+    spdlog::warn("study={} generation={} member={} poisoned after {} lost leases", s.id,
                  key.generation, key.member, options_.max_attempts);
     ++s.counters.poisoned;
     Result res;
     res.evaluation.set_valid(false);
     res.evaluation.set_reason(absl::StrCat("poisoned: ", options_.max_attempts,
                                            " leases expired without a result"));
+    if (options_.metrics) options_.metrics->Evaluated("poisoned", 0);
     Accept(s, key.member, std::move(res), &rows[s.id]);
     if (s.remaining == 0) finished.insert(s.id);
   }
@@ -231,6 +271,11 @@ void Coordinator::Tick() {
   const int64_t now = clock_.NowMs();
   std::erase_if(workers_seen_,
                 [&](const auto& kv) { return now - kv.second > 10 * queue_.lease_ms(); });
+  if (options_.metrics) {
+    int active = 0;
+    for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
+    options_.metrics->SetQueue(queue_.pending(), queue_.in_flight(), active);
+  }
   // Surface failed writes: the study stops rather than run on with a hole in its record.
   for (auto it = writes_.begin(); it != writes_.end();) {
     if (it->second.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
@@ -239,7 +284,7 @@ void Coordinator::Tick() {
     }
     absl::Status s = it->second.get();
     if (!s.ok()) {
-      spdlog::error("study {}: write failed: {}", it->first, std::string(s.message()));
+      spdlog::error("study={} write failed: {}", it->first, std::string(s.message()));
       auto st = studies_.find(it->first);
       if (st != studies_.end() && st->second->record.state == "running") {
         queue_.RemoveStudy(it->first);
@@ -285,6 +330,7 @@ v1::StudySummary Coordinator::Summarize(const storage::StudyRecord& r) const {
   out.set_updated_unix_ms(r.updated_ms);
   out.set_error(r.error);
   out.set_db_path(options_.db_path);
+  out.set_sim_build(r.sim_build);
   return out;
 }
 

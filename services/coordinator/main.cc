@@ -15,7 +15,12 @@
 #include <iostream>
 #include <thread>
 
+#include <prometheus/exposer.h>
+
+#include "services/coordinator/auth.h"
 #include "services/coordinator/coordinator.h"
+#include "services/coordinator/listen.h"
+#include "services/coordinator/metrics.h"
 #include "services/coordinator/services.h"
 #include "services/core/flags.h"
 #include "services/core/logging.h"
@@ -24,7 +29,6 @@ using namespace gaitforge;
 
 namespace {
 
-constexpr int kMaxMessageBytes = 64 << 20;
 
 int Fail(const std::string& msg) {
   std::cerr << "gaitforge-coordinator: " << msg << "\n";
@@ -42,7 +46,12 @@ int main(int argc, char** argv) {
   int64_t lease_ms = 10000;
   int max_attempts = 3;
   int64_t backup_after_ms = 2000;
+  int max_message_mb = 64;
   bool read_only = false;
+  bool insecure = false;
+  std::string listen_interface, address_file, tokens_file, metrics_listen;
+  std::string log_format = "text";
+  coordinator::TlsFiles tls;
   core::Flags flags("gaitforge-coordinator [flags]",
                     "Holds studies (engine + job queue + SQLite results database) and serves "
                     "gaitforge.v1.StudyService, gaitforge.v1.WorkerService and grpc.health.v1.\n"
@@ -56,6 +65,21 @@ int main(int argc, char** argv) {
   flags.Add("backup-after-ms", &backup_after_ms,
             "hand out backup copies of jobs leased this long when the queue is empty (0: off)");
   flags.AddBool("read-only", &read_only, "serve queries only: resume nothing, accept no study");
+  flags.Add("listen-interface", &listen_interface,
+            "listen on this network interface's IPv4 address (port from --listen)");
+  flags.Add("address-file", &address_file,
+            "write host:port for other hosts to dial here once serving (shared storage)");
+  flags.Add("tls-cert", &tls.cert, "PEM server certificate: serve TLS");
+  flags.Add("tls-key", &tls.key, "PEM private key of --tls-cert");
+  flags.Add("tls-client-ca", &tls.client_ca, "PEM CA: require client certificates signed by it");
+  flags.AddBool("insecure", &insecure, "allow plaintext on a non-loopback listener");
+  flags.Add("tokens-file", &tokens_file,
+            "bearer tokens, lines 'ROLE TOKEN' (client|worker|admin); also env "
+            "GAITFORGE_{CLIENT,WORKER,ADMIN}_TOKEN; none: no authentication");
+  flags.Add("metrics-listen", &metrics_listen,
+            "serve Prometheus metrics at http://HOST:PORT/metrics (empty: off)");
+  flags.Add("log-format", &log_format, "text or json (one JSON object per line)");
+  flags.Add("max-message-mb", &max_message_mb, "largest gRPC message accepted or sent, MiB (1..1024)");
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   if (auto s = flags.Parse(argc, argv); !s.ok()) return Fail(std::string(s.message()));
   if (flags.help_requested()) {
@@ -66,7 +90,20 @@ int main(int argc, char** argv) {
   if (sync != "full" && sync != "normal") return Fail("--sync: expected full or normal, got '" + sync + "'");
   if (lease_ms < 100 || lease_ms > 3600000) return Fail("--lease-ms: out of range [100, 3600000]");
   if (max_attempts < 1 || max_attempts > 100) return Fail("--max-attempts: out of range [1, 100]");
-  core::SetupLogging("coordinator", log_level);
+  if (max_message_mb < 1 || max_message_mb > 1024)
+    return Fail("--max-message-mb: out of range [1, 1024]");
+  const int kMaxMessageBytes = max_message_mb << 20;
+  if (log_format != "text" && log_format != "json")
+    return Fail("--log-format: expected text or json, got '" + log_format + "'");
+  core::SetupLogging("coordinator", log_level, log_format == "json");
+  auto address = coordinator::ResolveListen(listen, listen_interface);
+  if (!address.ok()) return Fail(std::string(address.status().message()));
+  auto creds = coordinator::MakeServerCredentials(tls, *address, insecure);
+  if (!creds.ok()) return Fail(std::string(creds.status().message()));
+  auto auth = coordinator::Auth::Load(tokens_file);
+  if (!auth.ok()) return Fail(std::string(auth.status().message()));
+  if (auth->enabled() && tls.cert.empty() && !coordinator::IsLoopback(*address))
+    spdlog::warn("tokens travel in plaintext on {} (--insecure)", *address);
 
   // Signals go to one thread that waits for them.
   sigset_t sigs;
@@ -104,15 +141,28 @@ int main(int argc, char** argv) {
   options.backup_after_ms = backup_after_ms;
   options.read_only = read_only;
   options.db_path = std::filesystem::absolute(db).string();
+  coordinator::Metrics metrics;
+  std::unique_ptr<prometheus::Exposer> exposer;
+  if (!metrics_listen.empty()) {
+    try {
+      exposer = std::make_unique<prometheus::Exposer>(metrics_listen);
+    } catch (const std::exception& e) {
+      return Fail("--metrics-listen " + metrics_listen + ": " + e.what());
+    }
+    exposer->RegisterCollectable(metrics.registry());
+    spdlog::info("metrics at http://{}/metrics", metrics_listen);
+  }
+  options.metrics = &metrics;
+  (*store)->SetCommitObserver([&metrics](double s) { metrics.Commit(s); });
   coordinator::Coordinator coord(std::move(*store), options, core::RealClock());
   if (auto s = coord.RecoverStudies(); !s.ok()) return Fail(std::string(s.message()));
 
-  coordinator::StudyServiceImpl study_service(coord);
-  coordinator::WorkerServiceImpl worker_service(coord);
+  coordinator::StudyServiceImpl study_service(coord, *auth);
+  coordinator::WorkerServiceImpl worker_service(coord, *auth);
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(listen, grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(*address, *creds, &port);
   builder.RegisterService(&study_service);
   builder.RegisterService(&worker_service);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
@@ -124,12 +174,26 @@ int main(int argc, char** argv) {
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PING_STRIKES, 0);
+  // At most this many concurrent streams per connection (watchers, long polls).
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, 256);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || port == 0) return Fail("cannot listen on " + listen);
-  spdlog::info("serving on port {} with database {}", port, options.db_path);
+  if (!server || port == 0) return Fail("cannot listen on " + *address);
+  spdlog::info("serving on {} port {} ({}, {}) with database {}", *address, port,
+               tls.cert.empty() ? "plaintext" : "TLS",
+               auth->enabled() ? "tokens required" : "no authentication", options.db_path);
+  if (!address_file.empty()) {
+    const std::string tmp = address_file + ".tmp";
+    std::ofstream(tmp) << coordinator::DialAddress(*address, port) << "\n";
+    std::filesystem::rename(tmp, address_file, ec);
+    if (ec) return Fail("cannot write --address-file " + address_file + ": " + ec.message());
+  }
   if (!port_file.empty()) {
     const std::string tmp = port_file + ".tmp";
-    std::ofstream(tmp) << port << "\n";
+    std::ofstream out(tmp);
+    out << port << "\n";
+    // Second line: the metrics port (useful with --metrics-listen HOST:0).
+    if (exposer && !exposer->GetListeningPorts().empty()) out << exposer->GetListeningPorts()[0] << "\n";
+    out.close();
     std::filesystem::rename(tmp, port_file, ec);
     if (ec) return Fail("cannot write --port-file " + port_file + ": " + ec.message());
   }
@@ -143,6 +207,7 @@ int main(int argc, char** argv) {
   });
   int sig = 0;
   sigwait(&sigs, &sig);
+  if (!address_file.empty()) std::filesystem::remove(address_file, ec);
   spdlog::info("signal {}: shutting down", sig);
   coord.Shutdown();  // wakes long polls and watchers
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));

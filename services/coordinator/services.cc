@@ -22,23 +22,26 @@ grpc::Status NeedId(const std::string& id) {
 
 }  // namespace
 
-grpc::Status StudyServiceImpl::CreateStudy(grpc::ServerContext*,
+grpc::Status StudyServiceImpl::CreateStudy(grpc::ServerContext* ctx,
                                            const v1::CreateStudyRequest* req,
                                            v1::CreateStudyResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   auto r = c_.CreateStudy(req->spec());
   if (!r.ok()) return ToGrpc(r.status());
   *out->mutable_study() = std::move(*r);
   return grpc::Status::OK;
 }
 
-grpc::Status StudyServiceImpl::GetStudy(grpc::ServerContext*, const v1::GetStudyRequest* req,
+grpc::Status StudyServiceImpl::GetStudy(grpc::ServerContext* ctx, const v1::GetStudyRequest* req,
                                         v1::StudySummary* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   return Reply(c_.GetStudy(req->study_id()), out);
 }
 
-grpc::Status StudyServiceImpl::ListStudies(grpc::ServerContext*, const v1::ListStudiesRequest*,
+grpc::Status StudyServiceImpl::ListStudies(grpc::ServerContext* ctx, const v1::ListStudiesRequest*,
                                            v1::ListStudiesResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   auto r = c_.ListStudies();
   if (!r.ok()) return ToGrpc(r.status());
   for (auto& s : *r) *out->add_studies() = std::move(s);
@@ -48,6 +51,7 @@ grpc::Status StudyServiceImpl::ListStudies(grpc::ServerContext*, const v1::ListS
 grpc::Status StudyServiceImpl::WatchStudy(grpc::ServerContext* ctx,
                                           const v1::WatchStudyRequest* req,
                                           grpc::ServerWriter<v1::Progress>* writer) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   int64_t sent_version = -1;
   std::string sent;  // the last progress sent, serialized
@@ -70,55 +74,63 @@ grpc::Status StudyServiceImpl::WatchStudy(grpc::ServerContext* ctx,
   }
 }
 
-grpc::Status StudyServiceImpl::GetHallOfFame(grpc::ServerContext*,
+grpc::Status StudyServiceImpl::GetHallOfFame(grpc::ServerContext* ctx,
                                              const v1::GetHallOfFameRequest* req,
                                              v1::GetHallOfFameResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   std::optional<int> g;
   if (req->has_generation()) g = req->generation();
   return Reply(c_.HallOfFame(req->study_id(), g), out);
 }
 
-grpc::Status StudyServiceImpl::GetHistory(grpc::ServerContext*, const v1::GetHistoryRequest* req,
+grpc::Status StudyServiceImpl::GetHistory(grpc::ServerContext* ctx, const v1::GetHistoryRequest* req,
                                           v1::GetHistoryResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   return Reply(c_.History(req->study_id()), out);
 }
 
-grpc::Status StudyServiceImpl::ListIndividuals(grpc::ServerContext*,
+grpc::Status StudyServiceImpl::ListIndividuals(grpc::ServerContext* ctx,
                                                const v1::ListIndividualsRequest* req,
                                                v1::ListIndividualsResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   return Reply(c_.Individuals(req->study_id(), req->generation()), out);
 }
 
-grpc::Status StudyServiceImpl::ResumeStudy(grpc::ServerContext*,
+grpc::Status StudyServiceImpl::ResumeStudy(grpc::ServerContext* ctx,
                                            const v1::ResumeStudyRequest* req,
                                            v1::StudySummary* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   return Reply(c_.ResumeStudy(req->study_id()), out);
 }
 
-grpc::Status StudyServiceImpl::CancelStudy(grpc::ServerContext*,
+grpc::Status StudyServiceImpl::CancelStudy(grpc::ServerContext* ctx,
                                            const v1::CancelStudyRequest* req,
                                            v1::StudySummary* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
   if (auto s = NeedId(req->study_id()); !s.ok()) return s;
   return Reply(c_.CancelStudy(req->study_id()), out);
 }
 
-grpc::Status WorkerServiceImpl::Lease(grpc::ServerContext*, const v1::LeaseRequest* req,
+grpc::Status WorkerServiceImpl::Lease(grpc::ServerContext* ctx, const v1::LeaseRequest* req,
                                       v1::LeaseResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
   return Reply(c_.Lease(*req), out);
 }
 
-grpc::Status WorkerServiceImpl::Report(grpc::ServerContext*, const v1::ReportRequest* req,
+grpc::Status WorkerServiceImpl::Report(grpc::ServerContext* ctx, const v1::ReportRequest* req,
                                        v1::ReportResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
   return Reply(c_.Report(*req), out);
 }
 
-grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext*,
+grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext* ctx,
                                           const v1::HeartbeatRequest* req,
                                           v1::HeartbeatResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
   return Reply(c_.Heartbeat(*req), out);
 }
 

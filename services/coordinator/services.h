@@ -2,13 +2,14 @@
 // Thin gRPC adapters over Coordinator: convert, delegate, convert back.
 #include "gaitforge/v1/study.grpc.pb.h"
 #include "gaitforge/v1/worker.grpc.pb.h"
+#include "services/coordinator/auth.h"
 #include "services/coordinator/coordinator.h"
 
 namespace gaitforge::coordinator {
 
 class StudyServiceImpl final : public v1::StudyService::Service {
  public:
-  explicit StudyServiceImpl(Coordinator& c) : c_(c) {}
+  StudyServiceImpl(Coordinator& c, const Auth& auth) : c_(c), auth_(auth) {}
   grpc::Status CreateStudy(grpc::ServerContext*, const v1::CreateStudyRequest*,
                            v1::CreateStudyResponse*) override;
   grpc::Status GetStudy(grpc::ServerContext*, const v1::GetStudyRequest*,
@@ -30,11 +31,12 @@ class StudyServiceImpl final : public v1::StudyService::Service {
 
  private:
   Coordinator& c_;
+  const Auth& auth_;
 };
 
 class WorkerServiceImpl final : public v1::WorkerService::Service {
  public:
-  explicit WorkerServiceImpl(Coordinator& c) : c_(c) {}
+  WorkerServiceImpl(Coordinator& c, const Auth& auth) : c_(c), auth_(auth) {}
   grpc::Status Lease(grpc::ServerContext*, const v1::LeaseRequest*,
                      v1::LeaseResponse*) override;
   grpc::Status Report(grpc::ServerContext*, const v1::ReportRequest*,
@@ -44,6 +46,7 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
 
  private:
   Coordinator& c_;
+  const Auth& auth_;
 };
 
 }  // namespace gaitforge::coordinator

@@ -4,7 +4,14 @@
 #include <stdio.h>
 #include <sys/wait.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "clients/cli/processes.h"
 #include "tests/support/temp_dir.h"
@@ -48,6 +55,15 @@ LocalCluster::LocalCluster(const std::string& dir, const std::string& db,
     return;
   }
   target_ = "127.0.0.1:" + std::to_string(port);
+  // A second line holds the metrics port when --metrics-listen is on.
+  std::ifstream pf(port_file);
+  int first = 0;
+  if (pf >> first >> metrics_port_) {
+  } else {
+    metrics_port_ = -1;
+  }
+  const bool tls = std::find(extra_flags.begin(), extra_flags.end(), "--tls-cert") != extra_flags.end();
+  if (tls) target_ = "127.0.0.1:" + std::to_string(port);
 }
 
 LocalCluster::~LocalCluster() {
@@ -55,14 +71,37 @@ LocalCluster::~LocalCluster() {
   StopCoordinator();
 }
 
-void LocalCluster::StartWorkers(int n, int threads) {
+void LocalCluster::StartWorkers(int n, int threads, const std::vector<std::string>& extra_flags) {
   for (int i = 0; i < n; ++i) {
     const std::string id = "w" + std::to_string(workers_.size());
-    workers_.push_back(cli::Spawn({Bin("gaitforge-worker"), "--coordinator", target_,
-                                   "--threads", std::to_string(threads), "--worker-id", id,
-                                   "--log-level", "warn"},
-                                  dir_ + "/" + id + ".log"));
+    std::vector<std::string> argv = {Bin("gaitforge-worker"), "--coordinator", target_,
+                                     "--threads", std::to_string(threads), "--worker-id", id,
+                                     "--log-level", "warn"};
+    argv.insert(argv.end(), extra_flags.begin(), extra_flags.end());
+    workers_.push_back(cli::Spawn(argv, dir_ + "/" + id + ".log"));
   }
+}
+
+std::string HttpGet(int port, const std::string& path) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return "";
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    close(fd);
+    return "";
+  }
+  const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+  (void)!write(fd, req.data(), req.size());
+  std::string resp;
+  char buf[4096];
+  ssize_t n;
+  while ((n = read(fd, buf, sizeof buf)) > 0) resp.append(buf, n);
+  close(fd);
+  const size_t body = resp.find("\r\n\r\n");
+  return body == std::string::npos ? "" : resp.substr(body + 4);
 }
 
 void LocalCluster::StopWorkers() {

@@ -18,16 +18,20 @@ struct CommandResult {
 // Runs a command line through /bin/sh and captures its output.
 CommandResult RunCommand(const std::string& command_line);
 
+// GET http://127.0.0.1:port/path; returns the body ("" on failure).
+std::string HttpGet(int port, const std::string& path);
+
 class LocalCluster {
  public:
   // Starts a coordinator on db (port 0 on 127.0.0.1) logging into dir.
   LocalCluster(const std::string& dir, const std::string& db,
                const std::vector<std::string>& extra_flags = {});
   ~LocalCluster();
-  void StartWorkers(int n, int threads = 1);
+  void StartWorkers(int n, int threads = 1, const std::vector<std::string>& extra_flags = {});
   void StopWorkers();
   void StopCoordinator();
   const std::string& target() const { return target_; }
+  int metrics_port() const { return metrics_port_; }
   bool ok() const { return coordinator_ > 0; }
   // The gaitforge CLI pointed at this coordinator.
   CommandResult Cli(const std::string& args) const;
@@ -35,6 +39,7 @@ class LocalCluster {
  private:
   std::string dir_, db_, target_;
   pid_t coordinator_ = -1;
+  int metrics_port_ = -1;
   std::vector<pid_t> workers_;
 };
 

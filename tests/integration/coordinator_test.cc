@@ -167,6 +167,42 @@ TEST(Coordinator, BadReportsAreRefusedAndChangeNothing) {
   EXPECT_EQ(c->Lease(lreq).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST(Coordinator, AWorkerOfAnotherSimulatorBuildIsRefused) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string id = Create(*c, SmallSpec(2));
+  v1::LeaseRequest lreq;
+  lreq.mutable_worker()->set_worker_id("a");
+  lreq.mutable_worker()->set_sim_build("build-A");
+  lreq.set_max_jobs(1);
+  auto first = c->Lease(lreq);
+  ASSERT_TRUE(first.ok());
+  ASSERT_EQ(first->jobs_size(), 1);
+  EXPECT_EQ(c->GetStudy(id)->sim_build(), "build-A");
+  // Another build gets no job of this study, with a reason.
+  lreq.mutable_worker()->set_worker_id("b");
+  lreq.mutable_worker()->set_sim_build("build-B");
+  auto other = c->Lease(lreq);
+  EXPECT_EQ(other.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(other.status().message().find("simulator build 'build-B'"), std::string::npos)
+      << other.status();
+  // Nor may it report for it, even with a real lease id.
+  v1::ReportRequest rep;
+  rep.mutable_worker()->set_worker_id("a");
+  rep.mutable_worker()->set_sim_build("build-B");
+  auto* res = rep.add_results();
+  *res->mutable_key() = first->jobs(0).key();
+  res->set_lease_id(first->jobs(0).lease_id());
+  res->mutable_evaluation()->set_valid(true);
+  EXPECT_EQ(c->Report(rep).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(c->GetStudy(id)->evaluations(), 0);
+  // The pin survives a restart.
+  c.reset();
+  auto again = Open(dir.File("r.db"), clock);
+  EXPECT_EQ(again->GetStudy(id)->sim_build(), "build-A");
+}
+
 TEST(Coordinator, InvalidSpecsAreRefusedAndNothingIsStored) {
   TempDir dir;
   core::ManualClock clock;

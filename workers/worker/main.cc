@@ -9,6 +9,7 @@
 #include "services/core/flags.h"
 #include "services/core/logging.h"
 #include "workers/objectives/objective.h"
+#include "services/rpc/channel.h"
 #include "workers/sim/ode_runtime.h"
 #include "workers/worker/registry.h"
 #include "workers/worker/worker_loop.h"
@@ -29,6 +30,16 @@ int main(int argc, char** argv) {
   flags.Add("max-batch", &o.max_batch, "most jobs per lease (the worker aims at ~0.5 s of work)");
   flags.Add("worker-id", &o.worker_id, "identity shown in results (default host-pid-random)");
   flags.Add("exit-when-idle", &o.exit_when_idle_s, "exit after this many seconds without work (0: never)");
+  flags.Add("coordinator-file", &o.coordinator_file,
+            "read host:port from this file (the coordinator's --address-file), waiting for it");
+  flags.Add("tls-ca", &o.tls_ca, "PEM CA: connect with TLS and trust this CA");
+  flags.Add("tls-cert", &o.tls_cert, "PEM client certificate (for --tls-client-ca servers)");
+  flags.Add("tls-key", &o.tls_key, "PEM key of --tls-cert");
+  std::string token_file;
+  flags.Add("token-file", &token_file,
+            "file holding the worker token (else env GAITFORGE_WORKER_TOKEN)");
+  std::string log_format = "text";
+  flags.Add("log-format", &log_format, "text or json");
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge-worker: " << s.message() << "\n";
@@ -46,7 +57,17 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge-worker: --max-batch = " << o.max_batch << " is out of range [1, 1024]\n";
     return 2;
   }
-  core::SetupLogging("worker", log_level);
+  auto token = rpc::LoadToken(token_file, "GAITFORGE_WORKER_TOKEN");
+  if (!token.ok()) {
+    std::cerr << "gaitforge-worker: " << token.status().message() << "\n";
+    return 2;
+  }
+  o.token = *token;
+  if (log_format != "text" && log_format != "json") {
+    std::cerr << "gaitforge-worker: --log-format: expected text or json\n";
+    return 2;
+  }
+  core::SetupLogging("worker", log_level, log_format == "json");
   sim::InitProcess();  // ODE, once per process, before any thread starts
 
   sigset_t sigs;

@@ -7,11 +7,13 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <fstream>
 #include <random>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "gaitforge/v1/worker.grpc.pb.h"
+#include "services/rpc/channel.h"
 #include "workers/worker/batch_runner.h"
 
 namespace gaitforge::worker {
@@ -29,23 +31,13 @@ std::string DefaultWorkerId() {
   return absl::StrCat(host, "-", getpid(), "-", absl::Hex(rd() & 0xffff, absl::kZeroPad4));
 }
 
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
-  grpc::ChannelArguments args;
-  args.SetMaxReceiveMessageSize(64 << 20);
-  args.SetMaxSendMessageSize(64 << 20);
-  // Keepalive (../shared/guides/distributed-notes.md): detect a dead coordinator in ~30 s.
-  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 20000);
-  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
-  args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
-  args.SetInt(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
-  // Reconnect quickly after a coordinator restart.
-  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
-}
-
-void SetDeadline(grpc::ClientContext& ctx, int ms) {
-  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(ms));
+// host:port from a file written by the coordinator (--address-file); empty until it exists.
+std::string ReadAddressFile(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  return line;
 }
 
 bool Retryable(const grpc::Status& s) {
@@ -87,8 +79,26 @@ std::string SimBuild() {
 int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry& registry,
               std::atomic<bool>& drain, WorkerStats* stats_out) {
   WorkerStats stats;
-  auto channel = MakeChannel(options.coordinator);
-  auto stub = v1::WorkerService::NewStub(channel);
+  rpc::ChannelOptions copts{options.coordinator, options.tls_ca, options.tls_cert, options.tls_key,
+                            options.token};
+  if (!options.coordinator_file.empty()) {
+    // Wait for the coordinator to publish its address (Slurm: it may start after us).
+    while ((copts.target = ReadAddressFile(options.coordinator_file)).empty()) {
+      if (drain.load()) return 0;
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  }
+  auto channel = rpc::MakeChannel(copts);
+  if (!channel.ok()) {
+    spdlog::error("{}", std::string(channel.status().message()));
+    return 2;
+  }
+  std::shared_ptr<v1::WorkerService::Stub> stub = v1::WorkerService::NewStub(*channel);
+  std::mutex stub_mu;  // guards stub (replaced when the address file changes)
+  auto current_stub = [&] {
+    std::lock_guard<std::mutex> l(stub_mu);
+    return stub;
+  };
   v1::WorkerInfo info;
   info.set_worker_id(options.worker_id.empty() ? DefaultWorkerId() : options.worker_id);
   char host[256] = {0};
@@ -97,8 +107,8 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
   info.set_threads(options.threads);
   info.set_sim_build(SimBuild());
   for (const auto& n : registry.Names()) info.add_objectives(n);
-  spdlog::info("worker {} ({} threads) pulling from {}", info.worker_id(), options.threads,
-               options.coordinator);
+  spdlog::info("worker={} ({} threads) pulling from {}", info.worker_id(), options.threads,
+               copts.target);
 
   // Heartbeats from their own thread, so a long evaluation never loses its lease. The same
   // thread cancels a pending long-poll Lease as soon as a drain is requested.
@@ -120,11 +130,11 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
       last = Clock::now();
       if (!holding.load()) continue;
       grpc::ClientContext ctx;
-      SetDeadline(ctx, 5000);
+      rpc::PrepareCall(ctx, 5, options.token);
       v1::HeartbeatRequest req;
       *req.mutable_worker() = info;
       v1::HeartbeatResponse resp;
-      grpc::Status s = stub->Heartbeat(&ctx, req, &resp);
+      grpc::Status s = current_stub()->Heartbeat(&ctx, req, &resp);
       if (s.ok()) lease_ms = resp.lease_ms();
       else spdlog::debug("heartbeat failed: {}", s.error_message());
     }
@@ -151,12 +161,12 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     v1::LeaseResponse lease;
     {
       grpc::ClientContext ctx;
-      SetDeadline(ctx, kLeaseWaitMs + 10000);
+      rpc::PrepareCall(ctx, (kLeaseWaitMs + 10000) / 1000.0, options.token);
       {
         std::lock_guard<std::mutex> l(lease_mu);
         lease_ctx = &ctx;
       }
-      grpc::Status s = stub->Lease(&ctx, lreq, &lease);
+      grpc::Status s = current_stub()->Lease(&ctx, lreq, &lease);
       {
         std::lock_guard<std::mutex> l(lease_mu);
         lease_ctx = nullptr;
@@ -171,6 +181,18 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
         }
         spdlog::warn("coordinator unreachable ({}); retrying", s.error_message());
         backoff.Sleep(drain);
+        if (!options.coordinator_file.empty()) {
+          // A restarted coordinator may have moved (another node): follow its file.
+          const std::string target = ReadAddressFile(options.coordinator_file);
+          if (!target.empty() && target != copts.target) {
+            copts.target = target;
+            if (auto ch = rpc::MakeChannel(copts); ch.ok()) {
+              std::lock_guard<std::mutex> l(stub_mu);
+              stub = v1::WorkerService::NewStub(*ch);
+              spdlog::info("worker={} following the coordinator to {}", info.worker_id(), target);
+            }
+          }
+        }
         continue;
       }
     }
@@ -227,9 +249,9 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     const auto report_deadline = Clock::now() + std::chrono::seconds(10);
     for (;;) {
       grpc::ClientContext ctx;
-      SetDeadline(ctx, 30000);
+      rpc::PrepareCall(ctx, 30, options.token);
       v1::ReportResponse resp;
-      grpc::Status s = stub->Report(&ctx, report, &resp);
+      grpc::Status s = current_stub()->Report(&ctx, report, &resp);
       if (s.ok()) {
         stats.reported += resp.accepted();
         stats.duplicates += resp.duplicates();
@@ -253,7 +275,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
   }
   stop_heartbeat = true;
   heartbeat.join();
-  spdlog::info("worker {} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
+  spdlog::info("worker={} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
                info.worker_id(), stats.evaluated, stats.reported, stats.duplicates,
                stats.refused);
   if (stats_out) *stats_out = stats;

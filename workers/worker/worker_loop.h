@@ -17,6 +17,11 @@ struct WorkerOptions {
   std::string worker_id;  // empty: host-pid-random
   // Exit after this long without work (0: never).
   double exit_when_idle_s = 0;
+  // Read host:port from this file (waiting until it exists, and again after the
+  // coordinator has been unreachable), instead of `coordinator`.
+  std::string coordinator_file;
+  std::string tls_ca, tls_cert, tls_key;  // TLS (see rpc::ChannelOptions)
+  std::string token;                      // bearer token (worker role)
 };
 
 struct WorkerStats {
