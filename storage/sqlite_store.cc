@@ -320,7 +320,8 @@ class SqliteStore final : public StudyStore {
     return WithReader([&](sqlite3* db) -> absl::StatusOr<std::vector<IndividualRecord>> {
       Statement q(db,
                   "SELECT member, genes, valid, fitness, reason, worker_id, eval_seconds, "
-                  "carried, origin_generation, origin_member, reported_ms FROM individuals "
+                  "carried, origin_generation, origin_member, reported_ms, violation "
+                  "FROM individuals "
                   "WHERE study_id = ? AND generation = ? ORDER BY member");
       q.Bind(1, id).Bind(2, generation);
       std::vector<IndividualRecord> out;
@@ -339,6 +340,7 @@ class SqliteStore final : public StudyStore {
         r.origin_generation = static_cast<int>(q.Int(8));
         r.origin_member = static_cast<int>(q.Int(9));
         r.reported_ms = q.Int(10);
+        r.violation = q.Real(11);
         out.push_back(std::move(r));
       }
       if (!q.status().ok()) return q.status();
@@ -385,8 +387,8 @@ class SqliteStore final : public StudyStore {
         : q(db,
             "INSERT OR IGNORE INTO individuals(study_id, generation, member, genes, "
             "genes_json, valid, fitness, reason, worker_id, eval_seconds, carried, "
-            "origin_generation, origin_member, reported_ms) VALUES "
-            "(?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+            "origin_generation, origin_member, reported_ms, violation) VALUES "
+            "(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
           m(db,
             "INSERT OR IGNORE INTO metrics(study_id, generation, member, name, value) "
             "VALUES (?,?,?,?,?)") {}
@@ -411,6 +413,7 @@ class SqliteStore final : public StudyStore {
                      .Bind(12, r.origin_generation)
                      .Bind(13, r.origin_member)
                      .Bind(14, r.reported_ms)
+                     .Bind(15, r.violation)
                      .Run();
         !s.ok())
       return s;

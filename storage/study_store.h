@@ -55,6 +55,7 @@ struct IndividualRecord {
   int origin_generation = 0;
   int origin_member = 0;
   int64_t reported_ms = 0;
+  double violation = 0.0;  // total constraint violation; 0 = feasible
 };
 
 struct HofRecord {

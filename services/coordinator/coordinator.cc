@@ -9,7 +9,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "services/coordinator/metrics.h"
+#include "services/coordinator/constraints.h"
+#include "services/engines/cmaes/cmaes_engine.h"
 #include "services/engines/ga/ga_engine.h"
+#include "services/engines/sweep/sweep_engine.h"
 #include "services/spec/spec_validation.h"
 
 namespace gaitforge::coordinator {
@@ -47,8 +50,54 @@ Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, Coordinator
 
 Coordinator::~Coordinator() { Shutdown(); }
 
+std::map<std::string, double> MetricsOf(const v1::Evaluation& e) {
+  return std::map<std::string, double>(e.metrics().begin(), e.metrics().end());
+}
+
+bool Coordinator::Finished(const Study& s) {
+  return s.engine->Done() || s.engine->generation() >= s.spec.generations();
+}
+
 absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
     const v1::StudySpec& spec) {
+  engines::Bounds bounds;
+  for (const auto& b : spec.bounds()) {
+    bounds.lo.push_back(b.lo());
+    bounds.hi.push_back(b.hi());
+  }
+  if (spec.engine() == "cmaes") {
+    const auto& s = spec.cmaes();
+    engines::cmaes::CmaesConfig c;
+    c.seed = spec.seed();
+    c.bounds = bounds;
+    c.mean0.assign(s.mean0().begin(), s.mean0().end());
+    c.sigma0_fraction = s.sigma0();
+    c.population = spec.population();
+    c.max_evaluations = s.max_evaluations();
+    c.restarts = engines::cmaes::ParseRestarts(s.restarts()).value_or(engines::cmaes::Restarts::kNone);
+    c.max_restarts = s.max_restarts();
+    c.tolfun = s.tolfun();
+    c.tolx = s.tolx();
+    if (s.has_stop_fitness()) c.stop_fitness = s.stop_fitness();
+    auto e = engines::cmaes::CmaesEngine::Create(c);
+    if (!e.ok()) return e.status();
+    return std::unique_ptr<engines::Engine>(std::move(*e));
+  }
+  if (spec.engine() == "sweep") {
+    const auto& s = spec.sweep();
+    engines::sweep::SweepConfig c;
+    c.seed = spec.seed();
+    c.bounds = bounds;
+    c.points_per_axis.assign(s.points_per_axis().begin(), s.points_per_axis().end());
+    c.top_k = s.top_k();
+    c.nm_max_iterations = s.nm_max_iterations();
+    c.nm_tolerance = s.nm_tolerance();
+    c.grid_batch = spec.population();
+    c.max_evaluations = s.max_evaluations();
+    auto e = engines::sweep::SweepEngine::Create(c);
+    if (!e.ok()) return e.status();
+    return std::unique_ptr<engines::Engine>(std::move(*e));
+  }
   engines::ga::GaConfig c;
   c.seed = spec.seed();
   c.population = spec.population();
@@ -134,7 +183,7 @@ absl::Status Coordinator::Activate(const storage::StudyRecord& record) {
   }
   study->evaluations = record.evaluations;
   std::vector<storage::IndividualRecord> stored;
-  if (!study->engine->Done()) {
+  if (!Finished(*study)) {
     auto rows = store_->Individuals(record.study_id, study->engine->generation());
     if (!rows.ok()) return rows.status();
     stored = std::move(*rows);
@@ -145,7 +194,7 @@ absl::Status Coordinator::Activate(const storage::StudyRecord& record) {
     return absl::OkStatus();  // activated meanwhile (two resumes at once)
   Study& s = *study;
   studies_[record.study_id] = std::move(study);
-  if (s.engine->Done()) {
+  if (Finished(s)) {
     SetState(s, "completed", "");
     return absl::OkStatus();
   }
@@ -168,6 +217,7 @@ void Coordinator::StartGeneration(Study& s, const std::vector<storage::Individua
       r.evaluation.set_fitness(c.known->fitness);
       r.evaluation.set_reason(c.known->reason);
       r.carried = true;
+      r.violation = c.known->violation;
       s.results[c.member] = std::move(r);
       --s.remaining;
     }
@@ -183,6 +233,7 @@ void Coordinator::StartGeneration(Study& s, const std::vector<storage::Individua
     for (const auto& [k, v] : row.metrics) (*r.evaluation.mutable_metrics())[k] = v;
     r.worker_id = row.worker_id;
     r.eval_seconds = row.eval_seconds;
+    r.violation = Violation(s.spec, row.valid, row.metrics);
     s.results[row.member] = std::move(r);
     --s.remaining;
     ++s.evaluations;
@@ -214,6 +265,8 @@ void Coordinator::Accept(Study& s, int member, Result result,
   row.origin_generation = row.generation;
   row.origin_member = member;
   row.reported_ms = clock_.UnixMs();
+  result.violation = Violation(s.spec, result.evaluation.valid(), row.metrics);
+  row.violation = result.violation;
   out->push_back(std::move(row));
   s.results[member] = std::move(result);
   --s.remaining;
@@ -233,7 +286,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   int valid = 0;
   for (size_t m = 0; m < cands.size(); ++m) {
     const Result& r = *s.results[m];
-    evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason()};
+    evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation};
     if (r.carried) {
       storage::IndividualRecord row;
       row.study_id = s.id;
@@ -244,6 +297,7 @@ void Coordinator::CompleteGeneration(Study& s) {
       row.fitness = r.evaluation.fitness();
       row.reason = r.evaluation.reason();
       row.carried = true;
+      row.violation = r.violation;
       row.origin_generation = cands[m].origin_generation;
       row.origin_member = cands[m].origin_member;
       row.reported_ms = clock_.UnixMs();
@@ -293,7 +347,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   rec.counters = s.counters;
   s.counters = {};
   rec.committed_ms = clock_.UnixMs();
-  rec.study_state = s.engine->Done() ? "completed" : "running";
+  rec.study_state = Finished(s) ? "completed" : "running";
   rec.study_evaluations = s.evaluations;
 
   s.record.generations_done = g + 1;
@@ -310,7 +364,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   WatchWrite(store_->CommitGeneration(std::move(rec)), s.id);
   queue_.RemoveGeneration(s.id, g);
   Bump();
-  if (s.engine->Done()) {
+  if (Finished(s)) {
     spdlog::info("study={} completed after {} generations, best fitness {}", s.id, g + 1,
                  s.record.best_fitness.value_or(NAN));
     return;
@@ -481,6 +535,7 @@ absl::StatusOr<v1::ListIndividualsResponse> Coordinator::Individuals(const std::
     ind->set_worker_id(r.worker_id);
     ind->set_eval_seconds(r.eval_seconds);
     ind->set_carried(r.carried);
+    ind->set_violation(r.violation);
   }
   return out;
 }

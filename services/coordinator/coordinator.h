@@ -88,6 +88,7 @@ class Coordinator {
     std::string worker_id;
     double eval_seconds = 0;
     bool carried = false;
+    double violation = 0;  // total constraint violation
   };
   struct Study {
     std::string id;
@@ -114,6 +115,8 @@ class Coordinator {
   void SetState(Study& s, const std::string& state, const std::string& error);
   void Bump();
   int FairShare(int requested) const;
+  // The engine is done, or the spec's generation count is reached.
+  static bool Finished(const Study& s);
   void WatchWrite(std::future<absl::Status> f, const std::string& study_id);
 
   std::unique_ptr<storage::StudyStore> store_;

@@ -148,12 +148,13 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
                                       "' differs from the study's '", s.record.sim_build, "'"));
       continue;
     }
-    const int g = s.engine->Done() ? s.record.generations_total : s.engine->generation();
+    const int g = Finished(s) ? s.record.generations_total : s.engine->generation();
     if (k.generation() < g || s.record.state != "running") {
       fate.push_back(Fate::kDuplicate);  // its generation is already committed
       continue;
     }
-    if (k.generation() > g || k.member() < 0 || k.member() >= s.spec.population()) {
+    if (k.generation() > g || k.member() < 0 ||
+        k.member() >= static_cast<int>(s.engine->Ask().size())) {
       not_held.push_back(absl::StrCat(KeyText(k), ": no such job"));
       continue;
     }
@@ -350,8 +351,8 @@ v1::Progress Coordinator::MakeProgress(const Study* s, const storage::StudyRecor
     const auto& [t1, e1] = s->rate.back();
     const double rate = t1 > t0 ? 1000.0 * static_cast<double>(e1 - e0) / (t1 - t0) : 0.0;
     p.set_evals_per_second(rate);
-    const int pop = s->spec.population();
-    const int per_gen = pop - (s->spec.engine() == "ga" ? s->spec.ga().elite() : 0);
+    const int pop = static_cast<int>(s->engine->Ask().size());
+    const int per_gen = std::max(1, pop - (s->spec.engine() == "ga" ? s->spec.ga().elite() : 0));
     const double left = static_cast<double>(r.generations_total - r.generations_done) * per_gen;
     if (rate > 0 && r.state == "running") p.set_eta_seconds(left / rate);
   }

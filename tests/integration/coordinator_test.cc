@@ -203,6 +203,90 @@ TEST(Coordinator, AWorkerOfAnotherSimulatorBuildIsRefused) {
   EXPECT_EQ(again->GetStudy(id)->sim_build(), "build-A");
 }
 
+TEST(Coordinator, CmaesStudyConvergesAndIsIndependentOfBatchingAndRestarts) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto spec = SmallSpec(3, 0, 400);
+  spec.set_engine("cmaes");
+  spec.mutable_objective()->set_name("analytic.sphere");
+  spec.mutable_cmaes()->set_max_evaluations(6000);
+  spec.mutable_cmaes()->set_stop_fitness(-1e-10);
+  auto a = Open(dir.File("a.db"), clock);
+  const std::string ia = Create(*a, spec);
+  Drive(*a, {.batch = 64});
+  auto sa = a->GetStudy(ia);
+  EXPECT_EQ(sa->state(), v1::STUDY_STATE_COMPLETED);
+  EXPECT_GT(sa->best_fitness(), -1e-8) << "CMA-ES solves the 13-d sphere";
+  EXPECT_LT(sa->evaluations(), 6000);
+
+  std::string ib;
+  {
+    auto b = Open(dir.File("b.db"), clock);
+    ib = Create(*b, spec);
+    Drive(*b, {.batch = 3, .reverse = true, .max_reports = 40});
+  }
+  auto b = Open(dir.File("b.db"), clock);  // restarted mid-study
+  Drive(*b, {.batch = 5});
+  EXPECT_EQ(Dump(*a, ia), Dump(*b, ib));
+}
+
+TEST(Coordinator, SweepStudyRefinesTheGridWithNelderMead) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto spec = SmallSpec(1, 0, 500);
+  spec.set_engine("sweep");
+  spec.mutable_objective()->set_name("analytic.rosenbrock");
+  (*spec.mutable_objective()->mutable_params())["shift"] = 0.0;
+  for (const char* n : {"x", "y"}) {
+    auto* b = spec.add_bounds();
+    b->set_name(n);
+    b->set_lo(-1.0);
+    b->set_hi(1.5);
+  }
+  spec.mutable_sweep()->add_points_per_axis(9);
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string id = Create(*c, spec);
+  Drive(*c, {.batch = 10});
+  auto s = c->GetStudy(id);
+  EXPECT_EQ(s->state(), v1::STUDY_STATE_COMPLETED);
+  auto grid = c->Individuals(id, 0);
+  ASSERT_TRUE(grid.ok());
+  EXPECT_EQ(grid->individuals_size(), 81);
+  double grid_best = -1e300;
+  for (const auto& i : grid->individuals()) grid_best = std::max(grid_best, i.evaluation().fitness());
+  EXPECT_GT(s->best_fitness(), grid_best);
+  EXPECT_GT(s->best_fitness(), -1e-6) << "Nelder-Mead reaches Rosenbrock's optimum";
+}
+
+TEST(Coordinator, InfeasibleMembersRankBelowFeasibleOnesAndAreKept) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto spec = SmallSpec(8, 40, 8);
+  spec.mutable_objective()->set_name("analytic.sphere");
+  auto* k = spec.add_constraints();
+  k->set_metric("loss");
+  k->set_min(80.0);  // feasible only away from the optimum: loss >= 80
+  auto c = Open(dir.File("r.db"), clock);
+  const std::string id = Create(*c, spec);
+  Drive(*c, {});
+  int infeasible = 0;
+  for (int g = 0; g < 8; ++g) {
+    auto inds = c->Individuals(id, g);
+    ASSERT_TRUE(inds.ok());
+    EXPECT_EQ(inds->individuals_size(), 40) << "nothing is dropped";
+    for (const auto& i : inds->individuals()) {
+      const double loss = -i.evaluation().fitness();
+      EXPECT_DOUBLE_EQ(i.violation(), loss < 80.0 ? 80.0 - loss : 0.0);
+      infeasible += i.violation() > 0;
+    }
+    auto hof = c->HallOfFame(id, g);
+    ASSERT_TRUE(hof.ok());
+    EXPECT_LE(hof->entries(0).individual().evaluation().fitness(), -80.0)
+        << "the best is the best feasible member";
+  }
+  EXPECT_GT(infeasible, 0);
+}
+
 TEST(Coordinator, InvalidSpecsAreRefusedAndNothingIsStored) {
   TempDir dir;
   core::ManualClock clock;

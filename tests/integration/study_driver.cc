@@ -37,6 +37,8 @@ int Drive(coordinator::Coordinator& c, const DriveOptions& o) {
       res->set_lease_id(job.lease_id());
       res->mutable_evaluation()->set_valid(r.valid);
       res->mutable_evaluation()->set_fitness(r.fitness);
+      for (const auto& [name, value] : r.metrics)
+        (*res->mutable_evaluation()->mutable_metrics())[name] = value;
     }
     auto ok = c.Report(rep);
     EXPECT_TRUE(ok.ok()) << ok.status();

@@ -90,6 +90,28 @@ TEST(SpecLoader, NanAndWrongTypesAreRejected) {
   EXPECT_NE(s.message().find("not valid YAML/JSON"), std::string::npos) << s;
 }
 
+TEST(SpecLoader, EngineSectionsAndConstraintsAreValidated) {
+  auto s = Check("engine: cmaes\npopulation: 0\ngenerations: 5\n"
+                 "objective: {name: analytic.sphere}\ncmaes:\n  sigma0: 2\n  restarts: often\n");
+  EXPECT_NE(s.message().find("s.yaml:6:3: field 'cmaes.sigma0' = 2 is out of range (0, 1]"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.message().find("field 'cmaes.restarts' 'often' is not one of none, ipop, bipop"),
+            std::string::npos)
+      << s;
+  s = Check("engine: sweep\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
+            "sweep: {points_per_axis: [10]}\n");
+  EXPECT_NE(s.message().find("make a grid of 1e+13 points; at most 1e7"), std::string::npos) << s;
+  s = Check("population: 20\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
+            "cmaes: {sigma0: 0.2}\nconstraints:\n  - {metric: loss, min: 3, max: 1}\n"
+            "  - {max: 1}\n");
+  EXPECT_NE(s.message().find("field 'cmaes' is set but the engine is 'ga'"), std::string::npos)
+      << s;
+  EXPECT_NE(s.message().find("field 'constraints[0]' needs min <= max"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("field 'constraints[1].metric' is required"), std::string::npos)
+      << s;
+}
+
 TEST(SpecLoader, MissingFileIsNotFound) {
   auto s = LoadSpecFile("/no/such/spec.yaml");
   EXPECT_EQ(s.status().code(), absl::StatusCode::kNotFound);
@@ -97,7 +119,8 @@ TEST(SpecLoader, MissingFileIsNotFound) {
 }
 
 TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
-  for (const char* f : {"examples/analytic-ga.yaml"}) {
+  for (const char* f : {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml",
+                        "examples/analytic-cmaes.yaml", "examples/analytic-sweep.yaml"}) {
     auto loaded = LoadSpecFile(std::string(GAITFORGE_SOURCE_DIR) + "/" + f);
     ASSERT_TRUE(loaded.ok()) << loaded.status();
     ApplyDefaults(&loaded->spec);
