@@ -62,6 +62,28 @@ absl::Status ApplyMigrations(sqlite3* db) {
   return absl::OkStatus();
 }
 
+RecordingRecord ReadRecording(Statement& q) {
+  RecordingRecord r;
+  r.hash = q.Text(0);
+  r.name = q.Text(1);
+  r.robot = q.Text(2);
+  r.rows = q.Int(3);
+  std::string channels = q.Text(4);
+  size_t start = 0;
+  while (start <= channels.size() && !channels.empty()) {
+    const size_t comma = channels.find(',', start);
+    r.channels.push_back(channels.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  r.dt = q.Real(5);
+  r.dropped_rows = static_cast<int>(q.Int(6));
+  r.csv = q.Blob(7);
+  r.sidecar = q.Blob(8);
+  r.added_ms = q.Int(9);
+  return r;
+}
+
 StudyRecord ReadStudy(Statement& q) {
   StudyRecord r;
   r.study_id = q.Text(0);
@@ -184,7 +206,7 @@ class SqliteStore final : public StudyStore {
                       "mean_fitness = ?, evaluations = ?, state = ?, updated_ms = ? "
                       "WHERE study_id = ?");
       return study.Bind(1, g.generation + 1)
-          .Bind(2, g.best)
+          .Bind(2, g.study_best)
           .Bind(3, g.mean)
           .Bind(4, g.study_evaluations)
           .Bind(5, g.study_state)
@@ -212,6 +234,61 @@ class SqliteStore final : public StudyStore {
       if (auto s = q.Bind(1, state).Bind(2, error).Bind(3, id).Run(); !s.ok()) return s;
       if (sqlite3_changes(db) == 0) return absl::NotFoundError(absl::StrCat("study ", id));
       return absl::OkStatus();
+    });
+  }
+
+  std::future<absl::StatusOr<bool>> PutRecording(const RecordingRecord& r) override {
+    auto inserted = std::make_shared<bool>(false);  // written by the writer thread's op
+    auto done = Submit([r, inserted](sqlite3* db) -> absl::Status {
+      Statement q(db,
+                  "INSERT OR IGNORE INTO recordings(hash, name, robot, rows, channels, dt, "
+                  "dropped_rows, csv, sidecar, added_ms) VALUES (?,?,?,?,?,?,?,?,?,?)");
+      std::string channels;
+      for (const auto& c : r.channels) channels += (channels.empty() ? "" : ",") + c;
+      absl::Status s = q.Bind(1, r.hash)
+                           .Bind(2, r.name)
+                           .Bind(3, r.robot)
+                           .Bind(4, r.rows)
+                           .Bind(5, channels)
+                           .Bind(6, r.dt)
+                           .Bind(7, r.dropped_rows)
+                           .BindBlob(8, r.csv)
+                           .BindBlob(9, r.sidecar)
+                           .Bind(10, r.added_ms)
+                           .Run();
+      *inserted = s.ok() && sqlite3_changes(db) > 0;
+      return s;
+    });
+    // Resolved in the caller's thread once the transaction has committed (or failed).
+    return std::async(std::launch::deferred,
+                      [done = std::move(done), inserted]() mutable -> absl::StatusOr<bool> {
+                        absl::Status s = done.get();
+                        if (!s.ok()) return s;
+                        return *inserted;
+                      });
+  }
+
+  absl::StatusOr<RecordingRecord> GetRecording(const std::string& hash, bool with_bytes) override {
+    return WithReader([&](sqlite3* db) -> absl::StatusOr<RecordingRecord> {
+      Statement q(db, absl::StrCat("SELECT hash, name, robot, rows, channels, dt, dropped_rows, ",
+                                   with_bytes ? "csv, sidecar" : "'', ''",
+                                   ", added_ms FROM recordings WHERE hash = ?"));
+      q.Bind(1, hash);
+      if (q.Step()) return ReadRecording(q);
+      if (!q.status().ok()) return q.status();
+      return absl::NotFoundError(absl::StrCat("no recording with hash '", hash, "'"));
+    });
+  }
+
+  absl::StatusOr<std::vector<RecordingRecord>> ListRecordings() override {
+    return WithReader([&](sqlite3* db) -> absl::StatusOr<std::vector<RecordingRecord>> {
+      Statement q(db,
+                  "SELECT hash, name, robot, rows, channels, dt, dropped_rows, '', '', added_ms "
+                  "FROM recordings ORDER BY added_ms, hash");
+      std::vector<RecordingRecord> out;
+      while (q.Step()) out.push_back(ReadRecording(q));
+      if (!q.status().ok()) return q.status();
+      return out;
     });
   }
 

@@ -89,7 +89,21 @@ struct GenerationRecord {
   std::vector<IndividualRecord> carried;  // members not evaluated again
   // The study row after this generation.
   std::string study_state;
+  std::optional<double> study_best;  // the hall of fame's best
   int64_t study_evaluations = 0;
+};
+
+struct RecordingRecord {
+  std::string hash;
+  std::string name;
+  std::string robot;
+  int64_t rows = 0;
+  std::vector<std::string> channels;
+  double dt = 0;
+  int dropped_rows = 0;
+  std::string csv;      // empty when listed without bytes
+  std::string sidecar;
+  int64_t added_ms = 0;
 };
 
 struct Durability {
@@ -111,6 +125,9 @@ class StudyStore {
                                                   const std::string& state,
                                                   const std::string& error) = 0;
 
+  // Stores a recording unless one with its hash exists; the future holds true if stored.
+  virtual std::future<absl::StatusOr<bool>> PutRecording(const RecordingRecord& recording) = 0;
+
   // Reads. NotFound names the study id.
   virtual absl::StatusOr<StudyRecord> GetStudy(const std::string& study_id) = 0;
   virtual absl::StatusOr<std::vector<StudyRecord>> ListStudies() = 0;
@@ -124,6 +141,9 @@ class StudyStore {
   // Engine state after the latest committed generation; nullopt if none was committed.
   virtual absl::StatusOr<std::optional<std::pair<int, std::string>>> LatestEngineState(
       const std::string& study_id) = 0;
+  virtual absl::StatusOr<RecordingRecord> GetRecording(const std::string& hash,
+                                                      bool with_bytes) = 0;
+  virtual absl::StatusOr<std::vector<RecordingRecord>> ListRecordings() = 0;
   // Blocks until every write submitted so far is committed.
   virtual absl::Status Flush() = 0;
   // Called on the writer thread after each transaction with its duration in seconds. Set

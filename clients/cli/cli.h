@@ -90,6 +90,13 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
 int CaterpillarReport(v1::StudyService::Stub& stub, const std::string& id,
                       const std::string& out_dir, const GlobalOptions& g, int top,
                       std::vector<std::string>* written);
+int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
+                 const std::string& sidecar);
+// Uploads every recording the spec names by file path (relative to the spec file) and puts
+// its content hash in its place. Returns an exit code.
+int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::StudySpec* spec,
+                         const GlobalOptions& g);
+
 // Runs clients/python/gaitforge_plot.py with args; returns its exit code.
 int RunPlotScript(const std::vector<std::string>& args);
 

@@ -96,6 +96,7 @@ int CmdSubmit(const GlobalOptions& g, const std::vector<std::string>& args) {
   int code = kOk;
   auto conn = Connect(g, true, &code);
   if (!conn) return code;
+  if (int c = UploadSpecRecordings(*conn, args[0], req.mutable_spec(), g); c) return c;
   grpc::ClientContext ctx;
   SetDeadline(ctx, g.timeout_s);
   v1::CreateStudyResponse resp;

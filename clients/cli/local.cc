@@ -83,6 +83,7 @@ int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int w
     std::cerr << "gaitforge: " << error << "\n";
     return kUnavailable;
   }
+  if (int c = UploadSpecRecordings(*conn, args[0], req.mutable_spec(), g); c) return c;
   int start_code = kOk;
   return RunWithLocalWorkers(
       g, *conn, workers, threads, out_dir,

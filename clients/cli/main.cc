@@ -27,6 +27,8 @@ const char* kCommands =
     "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out\n"
     "  trajectory ID   markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
     "                  --rank R, --generation G, --rate HZ, --cycles N)\n"
+    "  recording add FILE.csv   upload a recording (+ FILE.csv.json sidecar); prints its hash\n"
+    "  recording list           the stored recordings\n"
     "  resume ID       continue a cancelled or interrupted study\n"
     "  cancel ID       stop a study; its results stay\n"
     "\n"
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
   int generation = -1;
   std::string out_dir = "runs/plots";
   std::string output;
+  std::string sidecar;
   int rank = 0;
   int cycles = 3;
   double rate = 100;
@@ -67,6 +70,7 @@ int main(int argc, char** argv) {
   flags.Add("token-file", &token_file, "file holding the client token (else env GAITFORGE_TOKEN)");
   flags.Add("out", &out_dir, "plot/report/local: directory for figures");
   flags.Add("output", &output, "trajectory: CSV file to write");
+  flags.Add("sidecar", &sidecar, "recording add: the JSON sidecar (default FILE.csv.json)");
   flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
   flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
@@ -113,6 +117,7 @@ int main(int argc, char** argv) {
   if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
+  if (cmd == "recording") return cli::CmdRecording(g, args, sidecar);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
   if (cmd == "trajectory")
     return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);

@@ -38,7 +38,12 @@ absl::StatusOr<Auth> Auth::Load(const std::string& tokens_file) {
                                               {Role::kWorker, "GAITFORGE_WORKER_TOKEN"},
                                               {Role::kAdmin, "GAITFORGE_ADMIN_TOKEN"}};
   for (const auto& [role, var] : env) {
-    if (const char* v = std::getenv(var); v && *v) auth.tokens_[role] = v;
+    if (const char* v = std::getenv(var); v && *v) {
+      if (std::string(v).size() < 16)
+        return absl::InvalidArgumentError(
+            absl::StrCat(var, " is ", std::string(v).size(), " characters long; at least 16 required"));
+      auth.tokens_[role] = v;
+    }
   }
   if (tokens_file.empty()) return auth;
   std::ifstream in(tokens_file);
@@ -65,6 +70,12 @@ absl::StatusOr<Auth> Auth::Load(const std::string& tokens_file) {
     auth.tokens_[r] = token;
   }
   return auth;
+}
+
+grpc::Status Auth::CheckEither(const grpc::ServerContext* ctx, Role a, Role b) const {
+  grpc::Status s = Check(ctx, a);
+  if (s.ok() || s.error_code() == grpc::StatusCode::UNAUTHENTICATED) return s;
+  return Check(ctx, b);
 }
 
 grpc::Status Auth::Check(const grpc::ServerContext* ctx, Role needed) const {

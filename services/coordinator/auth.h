@@ -24,6 +24,8 @@ class Auth {
   // OK if the call may act as `needed` (admin may act as anyone); UNAUTHENTICATED without a
   // known token, PERMISSION_DENIED with a token of another role.
   grpc::Status Check(const grpc::ServerContext* ctx, Role needed) const;
+  // OK if the call may act as either role.
+  grpc::Status CheckEither(const grpc::ServerContext* ctx, Role a, Role b) const;
   void Add(Role role, std::string token) { tokens_[role] = std::move(token); }
 
  private:

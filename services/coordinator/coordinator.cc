@@ -43,6 +43,7 @@ Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, Coordinator
                          core::Clock& clock)
     : store_(std::move(store)),
       options_(options),
+      recordings_(std::make_unique<Recordings>(*store_, options.max_recording_bytes)),
       clock_(clock),
       queue_(clock, queue::QueueOptions{options.lease_ms, options.max_attempts,
                                         options.backup_after_ms},
@@ -118,6 +119,11 @@ absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
     return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
   spec::ApplyDefaults(&spec);
   if (auto s = spec::ValidationStatus(spec::Validate(spec)); !s.ok()) return s;
+  if (auto s = recordings_->CheckExist(spec.objective().recordings(), "objective.recordings");
+      !s.ok())
+    return s;
+  if (auto s = recordings_->CheckExist(spec.objective().held_out(), "objective.held_out"); !s.ok())
+    return s;
   auto engine = MakeEngine(spec);
   if (!engine.ok()) return engine.status();
 
@@ -144,7 +150,11 @@ absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   studies_[r.study_id] = std::move(study);
   spdlog::info("study={} created: {} x {}, objective {}", s.id, s.spec.population(),
                s.spec.generations(), s.spec.objective().name());
-  StartGeneration(s, {});
+  if (Finished(s)) {
+    SetState(s, "completed", "");
+  } else {
+    StartGeneration(s, {});
+  }
   Bump();
   return Summarize(s.record);
 }
@@ -348,6 +358,11 @@ void Coordinator::CompleteGeneration(Study& s) {
   s.counters = {};
   rec.committed_ms = clock_.UnixMs();
   rec.study_state = Finished(s) ? "completed" : "running";
+  // The study's best is the hall of fame's first (feasible first, Deb's rule), the same
+  // number live and after a restart; the generation row keeps its own population stats.
+  rec.study_best = rec.hall_of_fame.empty() || !rec.hall_of_fame[0].valid
+                       ? std::nullopt
+                       : std::optional<double>(rec.hall_of_fame[0].fitness);
   rec.study_evaluations = s.evaluations;
 
   s.record.generations_done = g + 1;
@@ -367,6 +382,10 @@ void Coordinator::CompleteGeneration(Study& s) {
   if (Finished(s)) {
     spdlog::info("study={} completed after {} generations, best fitness {}", s.id, g + 1,
                  s.record.best_fitness.value_or(NAN));
+    return;
+  }
+  if (s.engine->Ask().empty()) {  // an engine with nothing more to ask is done
+    SetState(s, "completed", "");
     return;
   }
   StartGeneration(s, {});

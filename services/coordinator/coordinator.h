@@ -20,6 +20,7 @@
 #include "absl/status/statusor.h"
 #include "gaitforge/v1/study.pb.h"
 #include "gaitforge/v1/worker.pb.h"
+#include "services/coordinator/recordings.h"
 #include "services/core/clock.h"
 #include "services/engines/engine.h"
 #include "services/queue/job_queue.h"
@@ -42,6 +43,8 @@ struct CoordinatorOptions {
   std::string db_path;
   // Prometheus metrics to update (optional; not owned).
   class Metrics* metrics = nullptr;
+  // Largest recording accepted (CSV + sidecar), bytes.
+  size_t max_recording_bytes = 64u << 20;
 };
 
 class Coordinator {
@@ -81,6 +84,7 @@ class Coordinator {
   void Shutdown();
 
   queue::QueueCounters QueueStats();
+  Recordings& recordings() { return *recordings_; }
 
  private:
   struct Result {
@@ -121,6 +125,7 @@ class Coordinator {
 
   std::unique_ptr<storage::StudyStore> store_;
   const CoordinatorOptions options_;
+  std::unique_ptr<Recordings> recordings_;
   core::Clock& clock_;
 
   mutable std::mutex mu_;

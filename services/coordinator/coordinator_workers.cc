@@ -77,7 +77,7 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
   }
   for (const auto& lease : leases) {
     Study& s = *studies_.at(lease.key.study_id);
-    if (s.record.sim_build.empty()) {
+    if (s.record.sim_build.empty() && !build.empty()) {
       // The first lease pins the study to this simulator build.
       s.record.sim_build = build;
       WatchWrite(store_->SetStudySimBuild(s.id, build), s.id);
@@ -247,7 +247,7 @@ void Coordinator::Tick() {
   if (options_.metrics) {
     const int poisoned = static_cast<int>(expiry.poisoned.size());
     const int expired = static_cast<int>(expiry.expired.size());
-    options_.metrics->Expired(expired, std::max(0, expired - poisoned), poisoned);
+    options_.metrics->Expired(expired, expiry.requeued, poisoned);
   }
   for (const auto& key : expiry.poisoned) {
     auto it = studies_.find(key.study_id);

@@ -63,6 +63,8 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(
     const TlsFiles& tls, const std::string& address, bool insecure) {
   if (tls.cert.empty() != tls.key.empty())
     return absl::InvalidArgumentError("--tls-cert and --tls-key go together");
+  if (tls.cert.empty() && !tls.client_ca.empty())
+    return absl::InvalidArgumentError("--tls-client-ca needs --tls-cert and --tls-key");
   if (tls.cert.empty()) {
     if (!IsLoopback(address) && !insecure)
       return absl::FailedPreconditionError(absl::StrCat(

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   int max_attempts = 3;
   int64_t backup_after_ms = 2000;
   int max_message_mb = 64;
+  int max_recording_mb = 64;
   bool read_only = false;
   bool insecure = false;
   std::string listen_interface, address_file, tokens_file, metrics_listen;
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
             "serve Prometheus metrics at http://HOST:PORT/metrics (empty: off)");
   flags.Add("log-format", &log_format, "text or json (one JSON object per line)");
   flags.Add("max-message-mb", &max_message_mb, "largest gRPC message accepted or sent, MiB (1..1024)");
+  flags.Add("max-recording-mb", &max_recording_mb, "largest recording accepted, MiB (1..1024)");
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   if (auto s = flags.Parse(argc, argv); !s.ok()) return Fail(std::string(s.message()));
   if (flags.help_requested()) {
@@ -153,18 +155,23 @@ int main(int argc, char** argv) {
     spdlog::info("metrics at http://{}/metrics", metrics_listen);
   }
   options.metrics = &metrics;
+  if (max_recording_mb < 1 || max_recording_mb > 1024)
+    return Fail("--max-recording-mb: out of range [1, 1024]");
+  options.max_recording_bytes = static_cast<size_t>(max_recording_mb) << 20;
   (*store)->SetCommitObserver([&metrics](double s) { metrics.Commit(s); });
   coordinator::Coordinator coord(std::move(*store), options, core::RealClock());
   if (auto s = coord.RecoverStudies(); !s.ok()) return Fail(std::string(s.message()));
 
   coordinator::StudyServiceImpl study_service(coord, *auth);
   coordinator::WorkerServiceImpl worker_service(coord, *auth);
+  coordinator::RecordingServiceImpl recording_service(coord, *auth);
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(*address, *creds, &port);
   builder.RegisterService(&study_service);
   builder.RegisterService(&worker_service);
+  builder.RegisterService(&recording_service);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
   builder.SetMaxSendMessageSize(kMaxMessageBytes);
   // Keepalive on both sides (../shared/guides/distributed-notes.md): accept client pings

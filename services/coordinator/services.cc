@@ -134,4 +134,27 @@ grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext* ctx,
   return Reply(c_.Heartbeat(*req), out);
 }
 
+grpc::Status RecordingServiceImpl::AddRecording(grpc::ServerContext* ctx,
+                                                const v1::AddRecordingRequest* req,
+                                                v1::AddRecordingResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
+  return Reply(c_.recordings().Add(*req), out);
+}
+
+grpc::Status RecordingServiceImpl::GetRecording(grpc::ServerContext* ctx,
+                                                const v1::GetRecordingRequest* req,
+                                                v1::GetRecordingResponse* out) {
+  if (auto a = auth_.CheckEither(ctx, Role::kClient, Role::kWorker); !a.ok()) return a;
+  if (req->hash().empty())
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "field 'hash' is required");
+  return Reply(c_.recordings().Get(req->hash()), out);
+}
+
+grpc::Status RecordingServiceImpl::ListRecordings(grpc::ServerContext* ctx,
+                                                  const v1::ListRecordingsRequest*,
+                                                  v1::ListRecordingsResponse* out) {
+  if (auto a = auth_.Check(ctx, Role::kClient); !a.ok()) return a;
+  return Reply(c_.recordings().List(), out);
+}
+
 }  // namespace gaitforge::coordinator

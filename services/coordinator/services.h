@@ -1,5 +1,6 @@
 #pragma once
 // Thin gRPC adapters over Coordinator: convert, delegate, convert back.
+#include "gaitforge/v1/recording.grpc.pb.h"
 #include "gaitforge/v1/study.grpc.pb.h"
 #include "gaitforge/v1/worker.grpc.pb.h"
 #include "services/coordinator/auth.h"
@@ -43,6 +44,21 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
                       v1::ReportResponse*) override;
   grpc::Status Heartbeat(grpc::ServerContext*, const v1::HeartbeatRequest*,
                          v1::HeartbeatResponse*) override;
+
+ private:
+  Coordinator& c_;
+  const Auth& auth_;
+};
+
+class RecordingServiceImpl final : public v1::RecordingService::Service {
+ public:
+  RecordingServiceImpl(Coordinator& c, const Auth& auth) : c_(c), auth_(auth) {}
+  grpc::Status AddRecording(grpc::ServerContext* ctx, const v1::AddRecordingRequest*,
+                            v1::AddRecordingResponse*) override;
+  grpc::Status GetRecording(grpc::ServerContext* ctx, const v1::GetRecordingRequest*,
+                            v1::GetRecordingResponse*) override;
+  grpc::Status ListRecordings(grpc::ServerContext* ctx, const v1::ListRecordingsRequest*,
+                              v1::ListRecordingsResponse*) override;
 
  private:
   Coordinator& c_;

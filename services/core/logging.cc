@@ -35,8 +35,18 @@ class JsonFlag final : public spdlog::custom_flag_formatter {
   explicit JsonFlag(std::string program) : program_(std::move(program)) {}
   void format(const spdlog::details::log_msg& msg, const std::tm& tm,
               spdlog::memory_buf_t& dest) override {
-    char time[32];
-    std::strftime(time, sizeof time, "%Y-%m-%dT%H:%M:%S", &tm);
+    (void)tm;
+    // UTC with milliseconds, ISO 8601.
+    const auto since = msg.time.time_since_epoch();
+    const auto secs = std::chrono::duration_cast<std::chrono::seconds>(since);
+    const int ms = static_cast<int>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(since - secs).count());
+    const std::time_t tt = secs.count();
+    std::tm utc{};
+    gmtime_r(&tt, &utc);
+    char base[32], time[40];
+    std::strftime(base, sizeof base, "%Y-%m-%dT%H:%M:%S", &utc);
+    std::snprintf(time, sizeof time, "%s.%03dZ", base, ms);
     const auto level = spdlog::level::to_string_view(msg.level);
     const std::string line = JsonLogLine(time, std::string(level.data(), level.size()), program_,
                                          std::string(msg.payload.data(), msg.payload.size()));

@@ -43,10 +43,33 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
       {"caterpillar.distance",
        "forward travel (m) per gait cycle of the lumped ODE caterpillar "
        "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
-       {{"cycles", 1, 50, 1, "measured gait cycles; fitness is the mean travel per cycle (m)"},
-        {"settle_cycles", 0, 20, 2, "gait cycles from rest before measuring"},
+       {{"cycles", 1, 50, 1, "measured gait cycles; fitness is the mean travel per cycle (m)",
+         true},
+        {"settle_cycles", 0, 20, 2, "gait cycles from rest before measuring", true},
         {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"}},
        CaterpillarGaitSpace(), 13},
+      {"caterpillar.calibration",
+       "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
+       "-(mean error over the recordings) between recorded and simulated markers (m; relative "
+       "for error = stats); genes are model parameters named in bounds, plus "
+       "nuisance.time_offset_s",
+       {{"settle_cycles", 0, 20, 2,
+         "gait cycles from rest (simulated time) left out of the comparison", true},
+        {"max_shift_samples", 0, 1000, 10,
+         "largest time shift searched, in samples (shape/stats: period bins, at most half a "
+         "period)",
+         true},
+        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"},
+        {"z_weight", 0, 100, 1,
+         "error = stats: weight of the relative z-shape error against the distance error"},
+        {"min_distance_m", 1e-6, 1, 1e-3,
+         "error = stats: floor of |real distance per cycle| in the relative distance error (m)"}},
+       {},
+       0,
+       {{"error", {"shape", "pointwise", "stats"}},
+        {"metric", {"rmse", "mae"}},
+        {"channels", {}}},
+       true},
   };
   return catalog;
 }

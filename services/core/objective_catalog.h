@@ -20,6 +20,7 @@ struct ParamInfo {
   double hi;
   double default_value;
   std::string meaning;  // with units
+  bool integer = false;  // only whole numbers
 };
 
 struct ObjectiveInfo {
@@ -30,6 +31,10 @@ struct ObjectiveInfo {
   std::vector<GeneRange> default_space;
   // 0: any number of genes; otherwise exactly this many.
   int required_genes = 0;
+  // String options: name -> allowed values (the first is the default).
+  std::vector<std::pair<std::string, std::vector<std::string>>> options;
+  // Compares with recordings (objective.recordings must name at least one).
+  bool needs_recordings = false;
 };
 
 // The 13-gene caterpillar gait of ../shared/robots/caterpillar.md: activation and

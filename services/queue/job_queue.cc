@@ -140,6 +140,7 @@ Expiry JobQueue::ExpireLeases() {
       out.poisoned.push_back(key);
     } else {
       job.state = State::kPending;
+      ++out.requeued;
       job.backed_up = false;
       pending_.push_front(key);  // retried before newer work
     }

@@ -51,6 +51,7 @@ enum class ReportCheck {
 struct Expiry {
   std::vector<JobKey> expired;   // one entry per lease that ran out
   std::vector<JobKey> poisoned;  // jobs closed for good
+  int requeued = 0;              // jobs returned to the queue for another lease
 };
 
 struct QueueCounters {

@@ -35,6 +35,8 @@ absl::StatusOr<std::string> LoadToken(const std::string& file, const char* env) 
 
 absl::StatusOr<std::shared_ptr<grpc::Channel>> MakeChannel(const ChannelOptions& o) {
   std::shared_ptr<grpc::ChannelCredentials> creds;
+  if (o.tls_cert.empty() != o.tls_key.empty())
+    return absl::InvalidArgumentError("--tls-cert and --tls-key go together");
   if (o.tls_ca.empty() && o.tls_cert.empty()) {
     creds = grpc::InsecureChannelCredentials();
   } else {

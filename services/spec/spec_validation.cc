@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <algorithm>
 #include <set>
 
 #include "absl/strings/str_cat.h"
@@ -62,9 +63,17 @@ namespace {
 void ValidateCmaes(const StudySpec& spec, std::vector<FieldError>& e) {
   const auto& c = spec.cmaes();
   auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
-  if (spec.population() != 0 && (spec.population() < 2 || spec.population() > 100000))
+  if (spec.population() != 0 && (spec.population() < 4 || spec.population() > 100000))
     add("population", absl::StrCat("= ", spec.population(),
-                                   " is out of range: 0 (default lambda) or [2, 100000]"));
+                                   " is out of range: 0 (default lambda) or [4, 100000]"));
+  const int n = spec.bounds_size();
+  const int lambda = spec.population() != 0
+                         ? spec.population()
+                         : 4 + static_cast<int>(std::floor(3 * std::log(std::max(n, 1))));
+  if (c.max_evaluations() < lambda)
+    add("cmaes.max_evaluations",
+        absl::StrCat("= ", c.max_evaluations(), " is below one generation (lambda = ", lambda,
+                     ")"));
   if (!(c.sigma0() > 0 && c.sigma0() <= 1))
     add("cmaes.sigma0", absl::StrCat("= ", c.sigma0(), " is out of range (0, 1]"));
   if (c.mean0_size() != 0 && c.mean0_size() != spec.bounds_size())
@@ -108,8 +117,13 @@ void ValidateSweep(const StudySpec& spec, std::vector<FieldError>& e) {
   }
   if (grid > 1e7)
     add("sweep.points_per_axis", absl::StrCat("make a grid of ", grid, " points; at most 1e7"));
-  if (w.top_k() < 1 || w.top_k() > 1000)
-    add("sweep.top_k", absl::StrCat("= ", w.top_k(), " is out of range [1, 1000]"));
+  if (w.top_k() < 1 || w.top_k() > 1000 || (grid >= 1 && w.top_k() > grid))
+    add("sweep.top_k", absl::StrCat("= ", w.top_k(), " is out of range [1, min(1000, grid size = ",
+                                    grid, ")]"));
+  const double first_batch = spec.population() > 0 ? std::min<double>(spec.population(), grid) : grid;
+  if (w.max_evaluations() > 0 && w.max_evaluations() < first_batch)
+    add("sweep.max_evaluations", absl::StrCat("= ", w.max_evaluations(),
+                                              " is below the first grid batch (", first_batch, ")"));
   if (w.nm_max_iterations() < 0 || w.nm_max_iterations() > 1000000)
     add("sweep.nm_max_iterations",
         absl::StrCat("= ", w.nm_max_iterations(), " is out of range [0, 1e6]"));
@@ -164,8 +178,34 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
       } else if (!std::isfinite(value) || value < p->lo || value > p->hi) {
         add(path, absl::StrCat("= ", value, " is out of range [", p->lo, ", ", p->hi, "] (",
                                p->meaning, ")"));
+      } else if (p->integer && value != std::floor(value)) {
+        add(path, absl::StrCat("= ", value, " must be a whole number (", p->meaning, ")"));
       }
     }
+    for (const auto& [name, value] : spec.objective().options()) {
+      const std::string path = absl::StrCat("objective.options.", name);
+      const std::vector<std::string>* allowed = nullptr;
+      for (const auto& [n, values] : info->options)
+        if (n == name) allowed = &values;
+      if (!allowed) {
+        std::vector<std::string> known;
+        for (const auto& [n, values] : info->options) known.push_back(n);
+        add(path, absl::StrCat("is not an option of ", info->name, " (known: ",
+                               known.empty() ? "none" : absl::StrJoin(known, ", "), ")"));
+      } else if (!allowed->empty() &&
+                 std::find(allowed->begin(), allowed->end(), value) == allowed->end()) {
+        add(path, absl::StrCat("'", value, "' is not one of ", absl::StrJoin(*allowed, ", ")));
+      }
+    }
+    if (info->needs_recordings && spec.objective().recordings_size() == 0)
+      add("objective.recordings",
+          absl::StrCat("needs at least one recording for ", info->name));
+    if (!info->needs_recordings && (spec.objective().recordings_size() > 0 ||
+                                    spec.objective().held_out_size() > 0))
+      add("objective.recordings", absl::StrCat(info->name, " takes no recordings"));
+    for (int i = 0; i < spec.objective().recordings_size(); ++i)
+      if (spec.objective().recordings(i).empty())
+        add(absl::StrCat("objective.recordings[", i, "]"), "is empty");
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));

@@ -7,12 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "services/recording/recording.h"
+
 namespace gaitforge::objectives {
 
 struct EvalInput {
   std::vector<double> genes;
   std::vector<double> lo, hi;             // the study's search space
+  std::vector<std::string> gene_names;    // the space's gene names (calibration: parameters)
   std::map<std::string, double> params;   // validated against the objective catalog
+  std::map<std::string, std::string> options;  // string-valued options (catalog-checked)
+  // Recordings the objective compares with (fetched and cached by content hash).
+  std::vector<std::shared_ptr<const recording::Recording>> recordings;
 };
 
 // Fitness is "higher is better". A failed evaluation (diverged simulation, bad genotype)

@@ -2,6 +2,7 @@
 //   trajectory    markers of one gait as a recording CSV (+ JSON sidecar)
 //   period-sweep  distance per cycle as a gait's period is scaled (paper 000, Fig. 13)
 //   wave          the travelling-wave baseline over periods (paper 000, Fig. 14)
+#include <cmath>
 #include <iostream>
 #include <thread>
 
@@ -52,6 +53,16 @@ int main(int argc, char** argv) {
   if (!params.ok()) {
     std::cerr << "gaitforge-sim: " << params.status().message() << "\n";
     return 2;
+  }
+  {
+    // Markers are sampled on simulation steps: the interval must be a whole number of them.
+    const double steps = 1.0 / (rate * params->simulation.timestep_s);
+    if (std::abs(steps - std::round(steps)) > 1e-9 || std::round(steps) < 1) {
+      std::cerr << "gaitforge-sim: --rate " << rate << " Hz is not a whole number of "
+                << params->simulation.timestep_s << " s steps; use 1000 / k Hz (e.g. 100, 200, "
+                   "250, 500)\n";
+      return 2;
+    }
   }
   sim::InitProcess();
   caterpillar::EvalOptions options;

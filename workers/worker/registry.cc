@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "workers/models/caterpillar/calibration_objective.h"
 #include "workers/models/caterpillar/caterpillar_objective.h"
 
 namespace gaitforge::worker {
@@ -10,6 +11,7 @@ absl::StatusOr<objectives::ObjectiveRegistry> WorkerRegistry() {
   objectives::ObjectiveRegistry registry = objectives::DefaultRegistry();
   try {
     caterpillar::RegisterCaterpillar(registry);
+    caterpillar::RegisterCaterpillarCalibration(registry);
   } catch (const std::exception& e) {
     return absl::FailedPreconditionError(e.what());
   }

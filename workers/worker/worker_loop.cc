@@ -8,13 +8,16 @@
 #include <cmath>
 #include <condition_variable>
 #include <fstream>
+#include <map>
 #include <random>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "gaitforge/v1/recording.grpc.pb.h"
 #include "gaitforge/v1/worker.grpc.pb.h"
 #include "services/rpc/channel.h"
 #include "workers/worker/batch_runner.h"
+#include "workers/worker/recording_cache.h"
 
 namespace gaitforge::worker {
 namespace {
@@ -94,11 +97,30 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     return 2;
   }
   std::shared_ptr<v1::WorkerService::Stub> stub = v1::WorkerService::NewStub(*channel);
-  std::mutex stub_mu;  // guards stub (replaced when the address file changes)
+  std::shared_ptr<v1::RecordingService::Stub> recordings_stub =
+      v1::RecordingService::NewStub(*channel);
+  std::mutex stub_mu;  // guards stub and recordings_stub (replaced when the coordinator moves)
   auto current_stub = [&] {
     std::lock_guard<std::mutex> l(stub_mu);
     return stub;
   };
+  RecordingCache recordings([&](const std::string& hash)
+                                -> absl::StatusOr<RecordingCache::Bytes> {
+    std::shared_ptr<v1::RecordingService::Stub> rs;
+    {
+      std::lock_guard<std::mutex> l(stub_mu);
+      rs = recordings_stub;
+    }
+    grpc::ClientContext ctx;
+    rpc::PrepareCall(ctx, 60, options.token);
+    v1::GetRecordingRequest req;
+    req.set_hash(hash);
+    v1::GetRecordingResponse resp;
+    grpc::Status s = rs->GetRecording(&ctx, req, &resp);
+    if (!s.ok())
+      return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
+    return RecordingCache::Bytes{resp.recording().name(), resp.csv(), resp.sidecar()};
+  });
   v1::WorkerInfo info;
   info.set_worker_id(options.worker_id.empty() ? DefaultWorkerId() : options.worker_id);
   char host[256] = {0};
@@ -189,6 +211,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
             if (auto ch = rpc::MakeChannel(copts); ch.ok()) {
               std::lock_guard<std::mutex> l(stub_mu);
               stub = v1::WorkerService::NewStub(*ch);
+              recordings_stub = v1::RecordingService::NewStub(*ch);
               spdlog::info("worker={} following the coordinator to {}", info.worker_id(), target);
             }
           }
@@ -203,6 +226,28 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     holding = true;
 
     const int n = lease.jobs_size();
+    // The recordings the batch names, fetched before evaluating so that a transient
+    // network error delays the batch rather than changing its results.
+    std::map<std::string, absl::StatusOr<std::shared_ptr<const recording::Recording>>> fetched;
+    for (const auto& job : lease.jobs()) {
+      for (const auto* list : {&job.objective().recordings()}) {
+        for (const auto& hash : *list) {
+          if (fetched.count(hash)) continue;
+          for (;;) {
+            auto r = recordings.Get(hash);
+            if (r.ok() || !Retryable(grpc::Status(static_cast<grpc::StatusCode>(r.status().code()),
+                                                   std::string(r.status().message()))) ||
+                drain.load()) {
+              fetched.emplace(hash, std::move(r));
+              break;
+            }
+            spdlog::warn("worker={} fetching recording {}: {}; retrying", info.worker_id(), hash,
+                         std::string(r.status().message()));
+            backoff.Sleep(drain);
+          }
+        }
+      }
+    }
     v1::ReportRequest report;
     *report.mutable_worker() = info;
     for (int i = 0; i < n; ++i) report.add_results();
@@ -226,7 +271,17 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
           in.hi.push_back(b.hi());
         }
         for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
-        if (in.lo.size() != in.genes.size()) {
+        for (const auto& [k, v] : job.objective().options()) in.options[k] = v;
+        for (const auto& b : job.bounds()) in.gene_names.push_back(b.name());
+        std::string missing;
+        for (const auto& hash : job.objective().recordings()) {
+          const auto& r = fetched.at(hash);
+          if (r.ok()) in.recordings.push_back(*r);
+          else missing = absl::StrCat("recording ", hash, " is not available: ", r.status().message());
+        }
+        if (!missing.empty()) {
+          r.reason = missing;
+        } else if (in.lo.size() != in.genes.size()) {
           r.reason = absl::StrCat("job has ", in.genes.size(), " genes but ", in.lo.size(),
                                   " bounds");
         } else {
@@ -257,7 +312,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
         stats.duplicates += resp.duplicates();
         break;
       }
-      if (!Retryable(s)) {
+      if (!Retryable(s) || s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) {
         spdlog::error("report refused: {}", s.error_message());
         stats.refused += n;
         break;

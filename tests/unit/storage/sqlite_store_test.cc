@@ -62,6 +62,7 @@ TEST(SqliteStore, WritesAreReadBackExactly) {
   g.engine_state = std::string("state\0bytes", 11);
   g.hall_of_fame = {HofRecord{0, 0, 0, {0.1, 1.0 / 3.0, -0.0}, true, 1.5}};
   g.study_state = "running";
+  g.study_best = 1.5;
   g.study_evaluations = 2;
   g.committed_ms = 2000;
   ASSERT_TRUE(s.CommitGeneration(g).get().ok());

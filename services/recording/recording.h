@@ -1,0 +1,61 @@
+#pragma once
+// Recordings: a CSV of channels over time with a JSON sidecar (docs/recording-format.md).
+// Parsed and validated here, with no gRPC, SQLite or ODE: the coordinator checks uploads
+// with it and workers read what they fetched with it.
+#include <cstddef>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/statusor.h"
+
+namespace gaitforge::recording {
+
+// What the sidecar says.
+struct RecordingMeta {
+  std::string robot;                         // "caterpillar"
+  std::string parameters;                    // parameter file the robot was built with (path)
+  std::map<std::string, double> overrides;   // parameter overrides (name -> value)
+  std::string command_kind;                  // "gait"
+  std::vector<double> genes;                 // the command: 13 gait genes for the caterpillar
+  std::string source;                        // "simulation" | "hardware" | free text
+  std::string note;
+  std::map<std::string, std::string> channel_units;  // optional channel metadata
+};
+
+struct Recording {
+  std::vector<std::string> channels;            // column names after "t"
+  std::vector<double> t;                        // seconds, strictly increasing
+  std::vector<std::vector<double>> columns;     // columns[c][row], metres or radians
+  RecordingMeta meta;
+  double dt = 0;                                // nominal sampling interval (s)
+  int dropped_rows = 0;                         // rows missing from the regular grid
+  int ChannelIndex(std::string_view name) const;  // -1 if absent
+};
+
+struct RecordingLimits {
+  size_t max_bytes = 64u << 20;   // CSV plus sidecar
+  size_t max_rows = 2000000;
+  // Sampling may deviate from the nominal interval by this fraction of it; a gap of k
+  // intervals (k >= 2, within the same tolerance) is k - 1 dropped rows.
+  double irregular_tolerance = 0.05;
+};
+
+// Parses and validates. Errors name the file, line and column and what was expected:
+// non-numeric cells, NaN or infinite values, missing or duplicate columns, time that does
+// not increase, sampling irregular beyond the tolerance, an unknown robot or channel, a
+// file over the size limit, a sidecar that is not JSON or lacks required keys.
+absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
+                                         const std::string& csv_name,
+                                         const std::string& sidecar_name,
+                                         const RecordingLimits& limits = {});
+
+// Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
+std::string ContentHash(std::string_view csv, std::string_view sidecar);
+
+// The channels a robot's recordings may carry ("m1.x" .. "m6.z" for the caterpillar);
+// empty for an unknown robot.
+std::vector<std::string> KnownChannels(const std::string& robot);
+
+}  // namespace gaitforge::recording

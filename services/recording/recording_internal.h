@@ -1,0 +1,54 @@
+#pragma once
+// Internals of the recording parser shared by recording.cc and sidecar.cc; not a public API.
+#include <map>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "services/recording/recording.h"
+
+namespace gaitforge::recording::internal {
+
+// A robot that recordings may describe.
+struct RobotInfo {
+  std::string name;                   // "caterpillar"
+  std::vector<std::string> channels;  // the CSV columns it may carry, besides "t"
+  int gene_count = 0;                 // length of command.genes for kind "gait"
+  std::string gene_names;             // for messages: "a_T1..a_B3, d_T1..d_B3, T"
+};
+
+const RobotInfo* FindRobot(std::string_view name);  // nullptr when unknown
+std::string KnownRobots();                          // "caterpillar"
+
+// The unit a channel's values are in: "rad" for "<joint>.angle", "m" otherwise (markers).
+std::string UnitOf(std::string_view channel);
+
+// `s` for a message: C-escaped, cut to 40 bytes with "..." after.
+std::string Quote(std::string_view s);
+
+// A UTF-8 byte order mark at the start, if any, removed.
+std::string_view StripBom(std::string_view s);
+
+// Parses a decimal or exponent number (optional sign, no hex, no inf/nan) that must span
+// all of `s`. Values too small for a double become 0 or subnormal; false for anything else
+// that is not a finite number.
+bool ParseFiniteDouble(std::string_view s, double* out);
+
+struct Sidecar {
+  RecordingMeta meta;
+  const RobotInfo* robot = nullptr;
+  // Where each entry of "channels" is (1-based line, column), to report one that the CSV
+  // lacks.
+  std::map<std::string, std::pair<int, int>> channel_marks;
+};
+
+// Strict JSON (RFC 8259) syntax check; errors as NAME:LINE:COLUMN: not valid JSON: ...
+absl::Status CheckJsonSyntax(std::string_view text, const std::string& name);
+
+// Parses and validates the sidecar (docs/recording-format.md, "Sidecar").
+absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name);
+
+}  // namespace gaitforge::recording::internal
