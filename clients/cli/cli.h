@@ -97,6 +97,10 @@ int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
 int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::StudySpec* spec,
                          const GlobalOptions& g);
 
+// The calibration study's report into out_dir (calibration_report.cc).
+int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
+                      const GlobalOptions& g, std::vector<std::string>* written);
+
 // Runs clients/python/gaitforge_plot.py with args; returns its exit code.
 int RunPlotScript(const std::vector<std::string>& args);
 

@@ -16,14 +16,15 @@ int LoadSpec(const std::string& path, v1::StudySpec* out);
 
 namespace {
 
-bool IsCaterpillar(Connection& conn, const std::string& id, const GlobalOptions& g) {
+// The study as the coordinator has it (empty summary if the call fails).
+v1::StudySummary Summary(Connection& conn, const std::string& id, const GlobalOptions& g) {
   grpc::ClientContext ctx;
   SetDeadline(ctx, g.timeout_s);
   v1::GetStudyRequest req;
   req.set_study_id(id);
   v1::StudySummary s;
-  return conn.study().GetStudy(&ctx, req, &s).ok() &&
-         s.spec().objective().name() == "caterpillar.distance";
+  (void)conn.study().GetStudy(&ctx, req, &s);
+  return s;
 }
 
 // Starts workers against `target`, runs `start` (which returns the study id, or "" after
@@ -50,9 +51,16 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   for (pid_t p : pids) Stop(p, 10);
   if (code == kOk) {
     std::vector<std::string> figures;
-    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk && IsCaterpillar(conn, id, g)) {
-      if (!g.json) std::cerr << "drawing the caterpillar paper's figures...\n";
-      CaterpillarReport(conn.study(), id, out_dir, g, 3, &figures);
+    const v1::StudySummary study = Summary(conn, id, g);
+    const std::string& objective = study.spec().objective().name();
+    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk) {
+      if (objective == "caterpillar.distance") {
+        if (!g.json) std::cerr << "drawing the caterpillar paper's figures...\n";
+        CaterpillarReport(conn.study(), id, out_dir, g, 3, &figures);
+      } else if (objective == "caterpillar.calibration") {
+        if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
+        CalibrationReport(conn, study, out_dir, g, &figures);
+      }
     }
     if (!g.json)
       for (const auto& f : figures) std::cerr << "wrote " << f << "\n";

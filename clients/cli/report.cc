@@ -149,8 +149,19 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
     return error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
   }
   std::vector<std::string> written;
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(args[0]);
+  v1::StudySummary study;
+  grpc::Status s = conn->study().GetStudy(&ctx, req, &study);
+  if (!s.ok()) return ReportRpcError(s, "report " + args[0]);
   int code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
-  if (code == kOk) code = CaterpillarReport(conn->study(), args[0], out_dir, g, 3, &written);
+  const std::string& objective = study.spec().objective().name();
+  if (code == kOk && objective == "caterpillar.calibration")
+    code = CalibrationReport(*conn, study, out_dir, g, &written);
+  else if (code == kOk && objective == "caterpillar.distance")
+    code = CaterpillarReport(conn->study(), args[0], out_dir, g, 3, &written);
   for (const auto& f : written) std::cout << f << "\n";
   return code;
 }

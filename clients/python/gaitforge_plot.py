@@ -135,6 +135,111 @@ def caterpillar(args):
     return 0
 
 
+def read_csv(path):
+    import csv
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    head, data = rows[0], rows[1:]
+    cols = {h: [float(r[i]) for r in data] for i, h in enumerate(head)}
+    return cols
+
+
+def interp(xs, ys, x):
+    import bisect
+    i = bisect.bisect_left(xs, x)
+    if i <= 0:
+        return ys[0]
+    if i >= len(xs):
+        return ys[-1]
+    f = (x - xs[i - 1]) / (xs[i] - xs[i - 1])
+    return ys[i - 1] + f * (ys[i] - ys[i - 1])
+
+
+def aligned(real, sim_path, channel, shift_s):
+    """Simulated channel at the recorded times (+ the fit's time shift), its constant offset
+    to the recording removed, as the error does."""
+    sim = read_csv(sim_path)
+    s = [interp(sim["t"], sim[channel], t + shift_s) for t in real["t"]]
+    off = sum(r - x for r, x in zip(real[channel], s)) / len(s)
+    return [x + off for x in s]
+
+
+def calibration(args):
+    with open(args.report) as f:
+        rep = json.load(f)
+    train_b, train_a = rep["train_before"]["recordings"], rep["train_after"]["recordings"]
+    held_b, held_a = rep["held_out_before"]["recordings"], rep["held_out_after"]["recordings"]
+    sets = [("train", b, a) for b, a in zip(train_b, train_a)] + \
+           [("held-out", b, a) for b, a in zip(held_b, held_a)]
+    channels = ["m1.x", "m6.x", "m3.z", "m6.z"]
+    fig, axes = plt.subplots(len(sets), len(channels), figsize=(3.2 * len(channels), 2.4 * len(sets)),
+                             squeeze=False)
+    for row, (kind, before, after) in enumerate(sets):
+        real = read_csv(before["file"])
+        for col, ch in enumerate(channels):
+            ax = axes[row, col]
+            if ch not in real:
+                ax.set_visible(False)
+                continue
+            ax.plot(real["t"], real[ch], color="k", lw=1.2, label="recorded")
+            for res, color, name in ((before, "tab:blue", "before"), (after, "tab:red", "after")):
+                if res.get("sim"):
+                    shift = res["metrics"].get("time_shift_s_0", 0.0)
+                    ax.plot(real["t"], aligned(real, res["sim"], ch, shift), color=color, lw=0.9,
+                            ls="--" if name == "before" else "-", label=f"model {name} fit")
+            ax.set_title(f"{kind} {row}: {ch}", fontsize=8)
+            ax.tick_params(labelsize=7)
+            if row == len(sets) - 1:
+                ax.set_xlabel("t (s)", fontsize=8)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("recorded vs simulated markers (cf. paper 000 Figs. 11, 12)", fontsize=10)
+    fig.tight_layout()
+    out = f"{args.out_prefix}-overlays.svg"
+    fig.savefig(out)
+    print(out)
+
+    def err(rs):
+        vals = [r["metrics"].get("error", float("nan")) for r in rs if r["valid"]]
+        return sum(vals) / len(vals) if vals else float("nan")
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    labels = ["training", "held-out"]
+    before = [err(train_b), err(held_b)]
+    after = [err(train_a), err(held_a)]
+    x = range(len(labels))
+    ax.bar([i - 0.2 for i in x], [1000 * v for v in before], 0.4, label="before (caterpillar.yaml)")
+    ax.bar([i + 0.2 for i in x], [1000 * v for v in after], 0.4, label="after the fit")
+    ax.set_xticks(list(x))
+    ax.set_xticklabels(labels)
+    ax.set_ylabel("error (mm)")
+    ax.set_title("calibration error before and after", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    out = f"{args.out_prefix}-errors.svg"
+    fig.savefig(out)
+    print(out)
+
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    names, rb, ra = [], [], []
+    for kind, b, a in sets:
+        names.append(f"{kind} {len(names)}")
+        rb.append(b["metrics"].get("distance_ratio_0", float("nan")))
+        ra.append(a["metrics"].get("distance_ratio_0", float("nan")))
+    x = range(len(names))
+    ax.bar([i - 0.2 for i in x], rb, 0.4, label="before")
+    ax.bar([i + 0.2 for i in x], ra, 0.4, label="after")
+    ax.axhline(1.0, color="grey", ls="--", lw=1)
+    ax.set_xticks(list(x))
+    ax.set_xticklabels(names, fontsize=8)
+    ax.set_ylabel("real / simulated distance per cycle")
+    ax.set_title("distance ratio per recording (cf. paper 000 Fig. 9)", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    out = f"{args.out_prefix}-distance-ratio.svg"
+    fig.savefig(out)
+    print(out)
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     sub = ap.add_subparsers(dest="figure", required=True)
@@ -148,6 +253,10 @@ def main():
     c.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
     c.add_argument("--out-prefix", required=True, help="files PREFIX-gaits.svg etc.")
     c.set_defaults(run=caterpillar)
+    k = sub.add_parser("calibration", help="a calibration study's figures from its report JSON")
+    k.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
+    k.add_argument("--out-prefix", required=True, help="files PREFIX-overlays.svg etc.")
+    k.set_defaults(run=calibration)
     args = ap.parse_args()
     return args.run(args)
 

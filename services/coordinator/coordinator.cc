@@ -499,6 +499,7 @@ absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::str
   if (!hof.ok()) return hof.status();
   v1::GetHallOfFameResponse out;
   out.set_generation(hof->first);
+  for (double x : SpreadAfter(id, hof->first)) out.add_spread(x);
   for (const auto& h : hof->second) {
     auto* e = out.add_entries();
     e->set_rank(h.rank);
@@ -510,6 +511,18 @@ absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::str
     ind->mutable_evaluation()->set_fitness(h.fitness);
   }
   return out;
+}
+
+std::vector<double> Coordinator::SpreadAfter(const std::string& id, int generation) {
+  auto latest = store_->LatestEngineState(id);
+  if (!latest.ok() || !*latest || (*latest)->first != generation) return {};
+  auto record = store_->GetStudy(id);
+  if (!record.ok()) return {};
+  v1::StudySpec spec;
+  if (!spec.ParseFromString(record->spec)) return {};
+  auto engine = MakeEngine(spec);
+  if (!engine.ok() || !(*engine)->LoadState((*latest)->second).ok()) return {};
+  return (*engine)->Spread();
 }
 
 absl::StatusOr<v1::GetHistoryResponse> Coordinator::History(const std::string& id) {

@@ -107,6 +107,8 @@ class Coordinator {
   };
 
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
+  // The engine's spread after `generation` if that is the latest committed one.
+  std::vector<double> SpreadAfter(const std::string& id, int generation);
   // Loads a study's engine from its last committed generation and schedules its jobs.
   absl::Status Activate(const storage::StudyRecord& record);
   void StartGeneration(Study& s, const std::vector<storage::IndividualRecord>& stored);

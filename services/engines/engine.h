@@ -63,6 +63,10 @@ class Engine {
   virtual absl::Status Tell(const std::vector<Evaluation>& by_member) = 0;
   // The best individuals seen, best first (the GA's elite of the last told generation).
   virtual std::vector<Ranked> HallOfFame() const = 0;
+  // Per gene, the standard deviation of the engine's current search distribution in gene
+  // units (CMA-ES: sigma * sqrt(C_ii) * range), an uncertainty for calibrations; empty when
+  // the engine has no distribution (GA, sweep).
+  virtual std::vector<double> Spread() const { return {}; }
   // Complete state; LoadState(SaveState()) continues bit-identically.
   virtual std::string SaveState() const = 0;
   virtual absl::Status LoadState(std::string_view state) = 0;

@@ -2,6 +2,8 @@
 //   trajectory    markers of one gait as a recording CSV (+ JSON sidecar)
 //   period-sweep  distance per cycle as a gait's period is scaled (paper 000, Fig. 13)
 //   wave          the travelling-wave baseline over periods (paper 000, Fig. 14)
+//   calibration-eval  errors of the model (with --set overrides) against recordings, and
+//                 the simulated markers of each recording's gait, for calibration reports
 #include <cmath>
 #include <iostream>
 #include <thread>
@@ -9,6 +11,7 @@
 #include "services/core/flags.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
 #include "workers/sim/ode_runtime.h"
+#include "workers/models/caterpillar/param_overrides.h"
 #include "workers/tools/sim_tool.h"
 
 using namespace gaitforge;
@@ -16,6 +19,8 @@ using namespace gaitforge;
 int main(int argc, char** argv) {
   std::string params_path = caterpillar::DefaultCaterpillarParamsPath();
   std::string genes_text, out, scales_text = "0.5,2,16", periods_text = "0.2,2.0,19";
+  std::string set_text, recordings_text, error_mode = "shape", metric = "rmse", out_dir;
+  int max_shift = 10;
   double rate = 100;
   int cycles = 10, settle = 2;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -34,6 +39,14 @@ int main(int argc, char** argv) {
   flags.Add("scales", &scales_text, "period-sweep: FROM,TO,COUNT multipliers (geometric)");
   flags.Add("periods", &periods_text, "wave: FROM,TO,COUNT periods in s (linear)");
   flags.Add("threads", &threads, "simulations run at once");
+  flags.Add("set", &set_text,
+            "parameter overrides NAME=VALUE,... (names: docs/objectives.md, e.g. "
+            "actuators.force_n, scale.link_stiffness); applied in order");
+  flags.Add("recordings", &recordings_text, "calibration-eval: recording CSVs, comma separated");
+  flags.Add("error", &error_mode, "calibration-eval: shape, pointwise or stats");
+  flags.Add("metric", &metric, "calibration-eval: rmse or mae");
+  flags.Add("max-shift", &max_shift, "calibration-eval: largest time shift, samples");
+  flags.Add("out-dir", &out_dir, "calibration-eval: write each recording's simulated markers here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge-sim: " << s.message() << "\n";
     return 2;
@@ -54,6 +67,19 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge-sim: " << params.status().message() << "\n";
     return 2;
   }
+  auto overrides = simtool::ParseOverrides(set_text);
+  if (!overrides.ok()) {
+    std::cerr << "gaitforge-sim: --set " << overrides.status().message() << "\n";
+    return 2;
+  }
+  if (cmd != "calibration-eval") {
+    for (const auto& [name, value] : *overrides) {
+      if (auto s = caterpillar::SetParam(*params, name, value); !s.ok()) {
+        std::cerr << "gaitforge-sim: --set " << s.message() << "\n";
+        return 2;
+      }
+    }
+  }
   {
     // Markers are sampled on simulation steps: the interval must be a whole number of them.
     const double steps = 1.0 / (rate * params->simulation.timestep_s);
@@ -69,6 +95,16 @@ int main(int argc, char** argv) {
   options.measured_cycles = cycles;
   options.settle_cycles = settle;
 
+  if (cmd == "calibration-eval") {
+    auto report = simtool::CalibrationEval(*params, *overrides, recordings_text, error_mode, metric,
+                                           max_shift, settle, out_dir, rate);
+    if (!report.ok()) {
+      std::cerr << "gaitforge-sim: " << report.status().message() << "\n";
+      return 2;
+    }
+    std::cout << *report << "\n";
+    return 0;
+  }
   if (cmd == "wave") {
     auto periods = simtool::ParseRange(periods_text, false);
     if (!periods.ok()) {

@@ -4,12 +4,16 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
+#include "workers/models/caterpillar/calibration_objective.h"
 #include "workers/models/caterpillar/gait.h"
+#include "workers/models/caterpillar/param_overrides.h"
+#include "services/recording/recording.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::simtool {
@@ -117,6 +121,88 @@ std::string SweepJson(const std::vector<SweepPoint>& points) {
                                     JsonEscape(p.eval.reason)));
   }
   return out + "]";
+}
+
+absl::StatusOr<std::vector<std::pair<std::string, double>>> ParseOverrides(
+    const std::string& text) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& part : absl::StrSplit(text, ',', absl::SkipEmpty())) {
+    const std::string s(part);
+    const size_t eq = s.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? 0 : std::strtod(s.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || eq == 0 || !end || *end || !std::isfinite(v))
+      return absl::InvalidArgumentError(absl::StrCat("'", s, "': expected NAME=NUMBER"));
+    out.emplace_back(s.substr(0, eq), v);
+  }
+  return out;
+}
+
+absl::StatusOr<std::string> CalibrationEval(
+    const caterpillar::CaterpillarParams& params,
+    const std::vector<std::pair<std::string, double>>& overrides, const std::string& recordings,
+    const std::string& error_mode, const std::string& metric, int max_shift, int settle,
+    const std::string& out_dir, double rate) {
+  caterpillar::CalibrationObjective objective(params);
+  std::string json = "{\"recordings\": [";
+  int i = 0;
+  for (const auto& part : absl::StrSplit(recordings, ',', absl::SkipEmpty())) {
+    const std::string path(part);
+    std::ifstream csv_in(path, std::ios::binary), side_in(path + ".json", std::ios::binary);
+    if (!csv_in || !side_in)
+      return absl::NotFoundError(absl::StrCat("cannot read ", path, " and ", path, ".json"));
+    std::stringstream csv, side;
+    csv << csv_in.rdbuf();
+    side << side_in.rdbuf();
+    auto rec = recording::ParseRecording(csv.str(), side.str(), path, path + ".json");
+    if (!rec.ok()) return rec.status();
+    objectives::EvalInput in;
+    for (const auto& [name, value] : overrides) {
+      in.gene_names.push_back(name);
+      in.genes.push_back(value);
+      in.lo.push_back(-1e300);
+      in.hi.push_back(1e300);
+    }
+    in.options = {{"error", error_mode}, {"metric", metric}};
+    in.params = {{"max_shift_samples", static_cast<double>(max_shift)},
+                 {"settle_cycles", static_cast<double>(settle)}};
+    in.recordings.push_back(std::make_shared<const recording::Recording>(*rec));
+    sim::InitThread();
+    const auto r = objectives::EvaluateSafely(objective, in);
+    absl::StrAppend(&json, i ? ",\n " : "\n ", "{\"file\": \"", JsonEscape(path),
+                    "\", \"valid\": ", r.valid ? "true" : "false", ", \"reason\": \"",
+                    JsonEscape(r.reason), "\", \"metrics\": {");
+    int k = 0;
+    for (const auto& [name, value] : r.metrics)
+      absl::StrAppend(&json, k++ ? ", " : "", "\"", name, "\": ", absl::StrFormat("%.9g", value));
+    absl::StrAppend(&json, "}");
+    if (!out_dir.empty() && r.valid) {
+      // The recording's gait with the same overrides, markers over the recording's span.
+      caterpillar::CaterpillarParams p = params;
+      for (const auto& [name, value] : overrides) {
+        if (name.rfind("nuisance.", 0) == 0) continue;
+        if (auto s = caterpillar::SetParam(p, name, value); !s.ok()) return s;
+      }
+      auto gait = caterpillar::Gait::FromGenes(rec->meta.genes);
+      if (!gait.ok()) return gait.status();
+      caterpillar::EvalOptions o;
+      o.settle_cycles = 0;
+      o.measured_cycles =
+          static_cast<int>(std::ceil((rec->t.back() + 0.5) / gait->period_s())) + 1;
+      o.marker_rate_hz = rate;
+      const auto e = caterpillar::EvaluateGait(p, *gait, o);
+      if (e.valid) {
+        const std::string sim_path = absl::StrCat(out_dir, "/sim-", i, ".csv");
+        if (auto s = WriteRecording(e.markers, sim_path, "", rec->meta.genes, "calibration-eval");
+            !s.ok())
+          return s;
+        absl::StrAppend(&json, ", \"sim\": \"", JsonEscape(sim_path), "\"");
+      }
+    }
+    absl::StrAppend(&json, "}");
+    ++i;
+  }
+  return json + "\n]}";
 }
 
 absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric) {

@@ -35,6 +35,18 @@ std::vector<SweepPoint> WaveSweep(const caterpillar::CaterpillarParams& params,
 
 std::string SweepJson(const std::vector<SweepPoint>& points);
 
+// "name=value,name=value" in order.
+absl::StatusOr<std::vector<std::pair<std::string, double>>> ParseOverrides(const std::string& text);
+
+// For each recording (comma-separated CSV paths with sidecars): the calibration objective's
+// error and metrics with `overrides` as genes, and (with out_dir) the simulated markers of
+// the recording's gait as out_dir/sim-<i>.csv. Returns JSON.
+absl::StatusOr<std::string> CalibrationEval(
+    const caterpillar::CaterpillarParams& params,
+    const std::vector<std::pair<std::string, double>>& overrides, const std::string& recordings,
+    const std::string& error_mode, const std::string& metric, int max_shift, int settle,
+    const std::string& out_dir, double rate);
+
 // "a,b,n": n values evenly spaced from a to b (geometric when `geometric`).
 absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric);
 absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text);

@@ -299,4 +299,12 @@ bool CmaesEngine::Restart() {
   return true;
 }
 
+std::vector<double> CmaesEngine::Spread() const {
+  std::vector<double> out;
+  if (C_.rows() == 0) return out;
+  for (int i = 0; i < C_.rows(); ++i)
+    out.push_back(sigma_ * std::sqrt(C_(i, i)) * (config_.bounds.hi[i] - config_.bounds.lo[i]));
+  return out;
+}
+
 }  // namespace gaitforge::engines::cmaes

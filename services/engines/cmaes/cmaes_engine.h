@@ -61,6 +61,7 @@ class CmaesEngine final : public Engine {
   int lambda() const { return params_.lambda; }
   int runs() const { return run_ + 1; }      // runs started, the first included
   double sigma() const { return sigma_; }    // in the normalised box
+  std::vector<double> Spread() const override;
   const std::string& stop_reason() const { return stop_reason_; }  // last run's
 
  private:
