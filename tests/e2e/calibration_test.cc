@@ -1,0 +1,114 @@
+// The calibration study end to end: recordings made by the model with known parameters,
+// uploaded through the API, fitted by CMA-ES on real workers that fetch them by hash, and
+// reported with held-out error.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cmath>
+#include <regex>
+
+#include "tests/e2e/cluster.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::testing {
+namespace {
+
+// Three gaits: an evolved one (moves forward by hopping) and two hand-made ones.
+const char* kGaitA =
+    "0.066346016790415963,0.92228296711382263,0.99884798501519678,0.91495911032617716,"
+    "0.013764065590901597,0.027395295966066602,0.32783986902260742,0.36116692841980558,"
+    "0.1062628441354091,0.40778045503790639,0.36272688662110386,0.30411357539492101,"
+    "0.35444634996911673";
+const char* kGaitB = "0.05,0.2,0.35,0.3,0.45,0.6,0.45,0.6,0.75,0.7,0.85,0.0,0.5";
+const char* kGaitC = "0.0,0.1,0.2,0.5,0.6,0.7,0.3,0.4,0.5,0.8,0.9,0.0,0.7";
+// The truth the recordings are made with; caterpillar.yaml says 8.8 N and scale 1.
+const char* kTruth = "actuators.force_n=9.6,scale.link_stiffness=1.15";
+
+double JsonNumber(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern + R"(\s*([-0-9.eE+]+))"))) return NAN;
+  return std::stod(m[1]);
+}
+
+TEST(Calibration, RecoversKnownParametersAndImprovesTheFit) {
+  TempDir dir;
+  const std::string sim = Bin("gaitforge-sim");
+  for (const auto& [name, gait, cycles] :
+       std::vector<std::tuple<std::string, std::string, int>>{
+           {"a.csv", kGaitA, 12}, {"b.csv", kGaitB, 10}, {"c.csv", kGaitC, 10}}) {
+    auto r = RunCommand(sim + " trajectory --genes " + gait + " --cycles " +
+                        std::to_string(cycles) + " --set " + kTruth + " --out " + dir.File(name));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  WriteFile(dir.File("bad.csv"), "t,m1.x\n0.0,0.1\n0.01,abc\n");
+  WriteFile(dir.File("bad.csv.json"), ReadFile(dir.File("a.csv.json")));
+
+  WriteFile(dir.File("calib.yaml"), R"(name: calib
+seed: 11
+engine: cmaes
+population: 8
+generations: 100
+objective:
+  name: caterpillar.calibration
+  options: {error: shape, metric: rmse}
+  recordings: [a.csv, b.csv]
+  held_out: [c.csv]
+bounds:
+  - {name: actuators.force_n, lo: 7.0, hi: 11.0}
+  - {name: scale.link_stiffness, lo: 0.7, hi: 1.4}
+cmaes:
+  mean0: [8.8, 1.0]
+  sigma0: 0.25
+  restarts: none
+  max_evaluations: 800
+)");
+  auto run = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
+                        " local calib.yaml --workers 2 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " ";
+  auto list = RunCommand(cli + "recording list --json");
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  // The three recordings the spec named by file, stored once each by content hash.
+  const std::regex hash_key("\"hash\"");
+  const auto hashes = std::distance(
+      std::sregex_iterator(list.out.begin(), list.out.end(), hash_key), std::sregex_iterator());
+  EXPECT_EQ(hashes, 3) << list.out;
+  EXPECT_NE(list.out.find("a.csv"), std::string::npos);
+  EXPECT_NE(list.out.find("c.csv"), std::string::npos);
+  // A broken recording is refused with its file, line and column.
+  auto bad = RunCommand(cli + "recording add bad.csv");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("bad.csv:3:2"), std::string::npos) << bad.err;
+
+  // The fit: within the stated tolerance of the truth (force 0.3 N, stiffness scale 0.1).
+  // The robot hops, so the error landscape is rugged at small scales
+  // (../shared/robots/caterpillar.md); these tolerances sit above that floor.
+  const std::string id = std::regex_replace(
+      RunCommand(cli + "list --json").out, std::regex(R"re([\s\S]*"study_id":"([^"]+)"[\s\S]*)re"),
+      "$1");
+  auto hof = RunCommand(cli + "hof " + id + " --json");
+  ASSERT_EQ(hof.exit_code, 0) << hof.err;
+  std::smatch genes;
+  ASSERT_TRUE(std::regex_search(hof.out, genes,
+                                std::regex(R"("genes":\[([-0-9.eE+]+),([-0-9.eE+]+)\])")))
+      << hof.out;
+  EXPECT_NEAR(std::stod(genes[1]), 9.6, 0.3) << hof.out;
+  EXPECT_NEAR(std::stod(genes[2]), 1.15, 0.1) << hof.out;
+  EXPECT_NE(hof.out.find("\"spread\":["), std::string::npos) << "uncertainty reported";
+
+  // The report: training error at least halved; held-out error not worse.
+  const std::string report = ReadFile(dir.File("runs/plots/" + id + "-calibration.json"));
+  ASSERT_FALSE(report.empty());
+  auto error_of = [&](const std::string& section) {
+    const size_t at = report.find("\"" + section + "\"");
+    return JsonNumber(report.substr(at), R"("error":)");
+  };
+  EXPECT_LT(error_of("train_after"), 0.5 * error_of("train_before"));
+  EXPECT_LE(error_of("held_out_after"), error_of("held_out_before") * 1.02);
+  for (const char* f : {"-overlays.svg", "-errors.svg", "-distance-ratio.svg"})
+    EXPECT_NE(ReadFile(dir.File("runs/plots/" + id + f)).find("<svg"), std::string::npos) << f;
+}
+
+}  // namespace
+}  // namespace gaitforge::testing
