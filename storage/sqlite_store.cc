@@ -81,6 +81,7 @@ RecordingRecord ReadRecording(Statement& q) {
   r.csv = q.Blob(7);
   r.sidecar = q.Blob(8);
   r.added_ms = q.Int(9);
+  r.bytes = q.Int(10);
   return r;
 }
 
@@ -272,7 +273,8 @@ class SqliteStore final : public StudyStore {
     return WithReader([&](sqlite3* db) -> absl::StatusOr<RecordingRecord> {
       Statement q(db, absl::StrCat("SELECT hash, name, robot, rows, channels, dt, dropped_rows, ",
                                    with_bytes ? "csv, sidecar" : "'', ''",
-                                   ", added_ms FROM recordings WHERE hash = ?"));
+                                   ", added_ms, length(csv) + length(sidecar) "
+                                   "FROM recordings WHERE hash = ?"));
       q.Bind(1, hash);
       if (q.Step()) return ReadRecording(q);
       if (!q.status().ok()) return q.status();
@@ -283,8 +285,8 @@ class SqliteStore final : public StudyStore {
   absl::StatusOr<std::vector<RecordingRecord>> ListRecordings() override {
     return WithReader([&](sqlite3* db) -> absl::StatusOr<std::vector<RecordingRecord>> {
       Statement q(db,
-                  "SELECT hash, name, robot, rows, channels, dt, dropped_rows, '', '', added_ms "
-                  "FROM recordings ORDER BY added_ms, hash");
+                  "SELECT hash, name, robot, rows, channels, dt, dropped_rows, '', '', added_ms, "
+                  "length(csv) + length(sidecar) FROM recordings ORDER BY added_ms, hash");
       std::vector<RecordingRecord> out;
       while (q.Step()) out.push_back(ReadRecording(q));
       if (!q.status().ok()) return q.status();

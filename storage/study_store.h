@@ -104,6 +104,7 @@ struct RecordingRecord {
   std::string csv;      // empty when listed without bytes
   std::string sidecar;
   int64_t added_ms = 0;
+  int64_t bytes = 0;    // CSV plus sidecar, also when listed without them
 };
 
 struct Durability {

@@ -44,15 +44,13 @@ std::string Evaluate(const std::vector<std::string>& files, const std::string& s
   std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ",")};
   if (!set.empty()) argv.insert(argv.end(), {"--set", set});
-  const auto& opts = spec.objective().options();
-  if (auto it = opts.find("error"); it != opts.end()) argv.insert(argv.end(), {"--error", it->second});
-  if (auto it = opts.find("metric"); it != opts.end())
-    argv.insert(argv.end(), {"--metric", it->second});
-  const auto& params = spec.objective().params();
-  if (auto it = params.find("max_shift_samples"); it != params.end())
-    argv.insert(argv.end(), {"--max-shift", absl::StrCat(static_cast<int>(it->second))});
-  if (auto it = params.find("settle_cycles"); it != params.end())
-    argv.insert(argv.end(), {"--settle", absl::StrCat(static_cast<int>(it->second))});
+  // Every option and param of the study's objective, so the report scores what the study did.
+  std::vector<std::string> options, params;
+  for (const auto& [k, v] : spec.objective().options()) options.push_back(k + "=" + v);
+  for (const auto& [k, v] : spec.objective().params())
+    params.push_back(absl::StrFormat("%s=%.17g", k, v));
+  argv.insert(argv.end(), {"--options", absl::StrJoin(options, ";")});
+  if (!params.empty()) argv.insert(argv.end(), {"--params", absl::StrJoin(params, ",")});
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   argv.insert(argv.end(), {"--out-dir", out_dir});

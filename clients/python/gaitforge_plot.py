@@ -184,7 +184,7 @@ def calibration(args):
             ax.plot(real["t"], real[ch], color="k", lw=1.2, label="recorded")
             for res, color, name in ((before, "tab:blue", "before"), (after, "tab:red", "after")):
                 if res.get("sim"):
-                    shift = res["metrics"].get("time_shift_s_0", 0.0)
+                    shift = res["metrics"].get("time_shift_s_0", 0.0) + res.get("time_offset_s", 0.0)
                     ax.plot(real["t"], aligned(real, res["sim"], ch, shift), color=color, lw=0.9,
                             ls="--" if name == "before" else "-", label=f"model {name} fit")
             ax.set_title(f"{kind} {row}: {ch}", fontsize=8)
@@ -210,7 +210,7 @@ def calibration(args):
     ax.bar([i + 0.2 for i in x], [1000 * v for v in after], 0.4, label="after the fit")
     ax.set_xticks(list(x))
     ax.set_xticklabels(labels)
-    ax.set_ylabel("error (mm)")
+    ax.set_ylabel("error (mm; x1000 of the relative error for error = stats)")
     ax.set_title("calibration error before and after", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -43,7 +43,8 @@ Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, Coordinator
                          core::Clock& clock)
     : store_(std::move(store)),
       options_(options),
-      recordings_(std::make_unique<Recordings>(*store_, options.max_recording_bytes)),
+      recordings_(std::make_unique<Recordings>(*store_, options.max_recording_bytes,
+                                               options.read_only)),
       clock_(clock),
       queue_(clock, queue::QueueOptions{options.lease_ms, options.max_attempts,
                                         options.backup_after_ms},

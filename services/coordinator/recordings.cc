@@ -17,7 +17,7 @@ v1::RecordingInfo Info(const storage::RecordingRecord& r) {
   for (const auto& c : r.channels) info.add_channels(c);
   info.set_dt(r.dt);
   info.set_dropped_rows(r.dropped_rows);
-  info.set_bytes(static_cast<int64_t>(r.csv.size() + r.sidecar.size()));
+  info.set_bytes(r.bytes);
   info.set_added_unix_ms(r.added_ms);
   return info;
 }
@@ -25,6 +25,8 @@ v1::RecordingInfo Info(const storage::RecordingRecord& r) {
 }  // namespace
 
 absl::StatusOr<v1::AddRecordingResponse> Recordings::Add(const v1::AddRecordingRequest& req) {
+  if (read_only_)
+    return absl::FailedPreconditionError("this coordinator is read-only; it stores no recording");
   const std::string name = req.name().empty() ? "recording.csv" : req.name();
   recording::RecordingLimits limits;
   limits.max_bytes = max_bytes_;
@@ -45,9 +47,11 @@ absl::StatusOr<v1::AddRecordingResponse> Recordings::Add(const v1::AddRecordingR
                    .count();
   auto stored = store_.PutRecording(r).get();
   if (!stored.ok()) return stored.status();
+  // The stored row (the first upload's name and time when these bytes were there already).
+  auto row = store_.GetRecording(r.hash, false);
+  if (!row.ok()) return row.status();
   v1::AddRecordingResponse out;
-  r.csv = req.csv();
-  *out.mutable_recording() = Info(r);
+  *out.mutable_recording() = Info(*row);
   out.set_already_stored(!*stored);
   return out;
 }

@@ -11,7 +11,8 @@ namespace gaitforge::coordinator {
 
 class Recordings {
  public:
-  Recordings(storage::StudyStore& store, size_t max_bytes) : store_(store), max_bytes_(max_bytes) {}
+  Recordings(storage::StudyStore& store, size_t max_bytes, bool read_only)
+      : store_(store), max_bytes_(max_bytes), read_only_(read_only) {}
   absl::StatusOr<v1::AddRecordingResponse> Add(const v1::AddRecordingRequest& request);
   absl::StatusOr<v1::GetRecordingResponse> Get(const std::string& hash);
   absl::StatusOr<v1::ListRecordingsResponse> List();
@@ -22,6 +23,7 @@ class Recordings {
  private:
   storage::StudyStore& store_;
   const size_t max_bytes_;
+  const bool read_only_;
 };
 
 }  // namespace gaitforge::coordinator

@@ -206,6 +206,9 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
     for (int i = 0; i < spec.objective().recordings_size(); ++i)
       if (spec.objective().recordings(i).empty())
         add(absl::StrCat("objective.recordings[", i, "]"), "is empty");
+    for (int i = 0; i < spec.objective().held_out_size(); ++i)
+      if (spec.objective().held_out(i).empty())
+        add(absl::StrCat("objective.held_out[", i, "]"), "is empty");
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));

@@ -95,7 +95,8 @@ cmaes:
       << hof.out;
   EXPECT_NEAR(std::stod(genes[1]), 9.6, 0.3) << hof.out;
   EXPECT_NEAR(std::stod(genes[2]), 1.15, 0.1) << hof.out;
-  EXPECT_NE(hof.out.find("\"spread\":["), std::string::npos) << "uncertainty reported";
+  EXPECT_TRUE(std::regex_search(hof.out, std::regex(R"re("spread":\[[0-9.eE+-]+,[0-9.eE+-]+\])re")))
+      << "an uncertainty per parameter: " << hof.out;
 
   // The report: training error at least halved; held-out error not worse.
   const std::string report = ReadFile(dir.File("runs/plots/" + id + "-calibration.json"));

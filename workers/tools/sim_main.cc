@@ -19,8 +19,7 @@ using namespace gaitforge;
 int main(int argc, char** argv) {
   std::string params_path = caterpillar::DefaultCaterpillarParamsPath();
   std::string genes_text, out, scales_text = "0.5,2,16", periods_text = "0.2,2.0,19";
-  std::string set_text, recordings_text, error_mode = "shape", metric = "rmse", out_dir;
-  int max_shift = 10;
+  std::string set_text, recordings_text, out_dir, options_text = "error=shape", params_text;
   double rate = 100;
   int cycles = 10, settle = 2;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -29,7 +28,9 @@ int main(int argc, char** argv) {
       "One-shot simulations of the ODE caterpillar, with the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: markers m1..m6 as a recording CSV (+ .json)\n"
       "  period-sweep  --genes G: distance per cycle with the period scaled (--scales), JSON\n"
-      "  wave          travelling-wave gait over periods (--periods), JSON");
+      "  wave          travelling-wave gait over periods (--periods), JSON\n"
+      "  calibration-eval  --recordings A.csv,B.csv [--set ...]: the calibration objective's\n"
+      "                errors against recordings, and the simulated markers (--out-dir), JSON");
   flags.Add("params", &params_path, "caterpillar parameter file (YAML/JSON)");
   flags.Add("genes", &genes_text, "13 numbers a_T1..a_B3 d_T1..d_B3 T, comma separated");
   flags.Add("out", &out, "trajectory: CSV file to write");
@@ -43,9 +44,10 @@ int main(int argc, char** argv) {
             "parameter overrides NAME=VALUE,... (names: docs/objectives.md, e.g. "
             "actuators.force_n, scale.link_stiffness); applied in order");
   flags.Add("recordings", &recordings_text, "calibration-eval: recording CSVs, comma separated");
-  flags.Add("error", &error_mode, "calibration-eval: shape, pointwise or stats");
-  flags.Add("metric", &metric, "calibration-eval: rmse or mae");
-  flags.Add("max-shift", &max_shift, "calibration-eval: largest time shift, samples");
+  flags.Add("options", &options_text,
+            "calibration-eval: the objective's options NAME=VALUE;... (error, metric, channels)");
+  flags.Add("params", &params_text,
+            "calibration-eval: the objective's params NAME=VALUE,... (max_shift_samples, ...)");
   flags.Add("out-dir", &out_dir, "calibration-eval: write each recording's simulated markers here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge-sim: " << s.message() << "\n";
@@ -96,8 +98,19 @@ int main(int argc, char** argv) {
   options.settle_cycles = settle;
 
   if (cmd == "calibration-eval") {
-    auto report = simtool::CalibrationEval(*params, *overrides, recordings_text, error_mode, metric,
-                                           max_shift, settle, out_dir, rate);
+    auto opts = simtool::ParseOptions(options_text);
+    if (!opts.ok()) {
+      std::cerr << "gaitforge-sim: --options " << opts.status().message() << "\n";
+      return 2;
+    }
+    auto pars = simtool::ParseOverrides(params_text);
+    if (!pars.ok()) {
+      std::cerr << "gaitforge-sim: --params " << pars.status().message() << "\n";
+      return 2;
+    }
+    std::map<std::string, double> objective_params(pars->begin(), pars->end());
+    auto report = simtool::CalibrationEval(*params, *overrides, recordings_text, *opts,
+                                           objective_params, out_dir, rate);
     if (!report.ok()) {
       std::cerr << "gaitforge-sim: " << report.status().message() << "\n";
       return 2;
@@ -149,7 +162,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (auto s = simtool::WriteRecording(e.markers, out, params_path, *genes,
-                                         "simulated by gaitforge-sim");
+                                         "simulated by gaitforge-sim", *overrides);
         !s.ok()) {
       std::cerr << "gaitforge-sim: " << s.message() << "\n";
       return 1;

@@ -50,7 +50,8 @@ void ParallelFor(int n, int threads, F fn) {
 
 absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
                             const std::string& params_path, const std::vector<double>& genes,
-                            const std::string& note) {
+                            const std::string& note,
+                            const std::vector<std::pair<std::string, double>>& overrides) {
   std::ofstream csv(csv_path);
   if (!csv) return absl::UnavailableError(absl::StrCat("cannot write ", csv_path));
   csv << "t";
@@ -66,7 +67,15 @@ absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::s
   side << "{\n  \"robot\": \"caterpillar\",\n  \"parameters\": \"" << JsonEscape(params_path)
        << "\",\n  \"command\": {\"kind\": \"gait\", \"genes\": [";
   for (size_t i = 0; i < genes.size(); ++i) side << (i ? ", " : "") << absl::StrFormat("%.17g", genes[i]);
-  side << "]},\n  \"source\": \"simulation\",\n  \"note\": \"" << JsonEscape(note) << "\"\n}\n";
+  side << "]},\n";
+  if (!overrides.empty()) {
+    side << "  \"overrides\": {";
+    for (size_t i = 0; i < overrides.size(); ++i)
+      side << (i ? ", " : "") << "\"" << JsonEscape(overrides[i].first)
+           << "\": " << absl::StrFormat("%.17g", overrides[i].second);
+    side << "},\n";
+  }
+  side << "  \"source\": \"simulation\",\n  \"note\": \"" << JsonEscape(note) << "\"\n}\n";
   if (!csv || !side) return absl::DataLossError(absl::StrCat("write failed: ", csv_path));
   return absl::OkStatus();
 }
@@ -141,8 +150,12 @@ absl::StatusOr<std::vector<std::pair<std::string, double>>> ParseOverrides(
 absl::StatusOr<std::string> CalibrationEval(
     const caterpillar::CaterpillarParams& params,
     const std::vector<std::pair<std::string, double>>& overrides, const std::string& recordings,
-    const std::string& error_mode, const std::string& metric, int max_shift, int settle,
-    const std::string& out_dir, double rate) {
+    const std::map<std::string, std::string>& options,
+    const std::map<std::string, double>& objective_params, const std::string& out_dir,
+    double rate) {
+  double time_offset = 0;
+  for (const auto& [name, value] : overrides)
+    if (name == "nuisance.time_offset_s") time_offset = value;
   caterpillar::CalibrationObjective objective(params);
   std::string json = "{\"recordings\": [";
   int i = 0;
@@ -163,14 +176,14 @@ absl::StatusOr<std::string> CalibrationEval(
       in.lo.push_back(-1e300);
       in.hi.push_back(1e300);
     }
-    in.options = {{"error", error_mode}, {"metric", metric}};
-    in.params = {{"max_shift_samples", static_cast<double>(max_shift)},
-                 {"settle_cycles", static_cast<double>(settle)}};
+    in.options = options;
+    in.params = objective_params;
     in.recordings.push_back(std::make_shared<const recording::Recording>(*rec));
     sim::InitThread();
     const auto r = objectives::EvaluateSafely(objective, in);
     absl::StrAppend(&json, i ? ",\n " : "\n ", "{\"file\": \"", JsonEscape(path),
-                    "\", \"valid\": ", r.valid ? "true" : "false", ", \"reason\": \"",
+                    "\", \"time_offset_s\": ", absl::StrFormat("%.9g", time_offset),
+                    ", \"valid\": ", r.valid ? "true" : "false", ", \"reason\": \"",
                     JsonEscape(r.reason), "\", \"metrics\": {");
     int k = 0;
     for (const auto& [name, value] : r.metrics)
@@ -203,6 +216,18 @@ absl::StatusOr<std::string> CalibrationEval(
     ++i;
   }
   return json + "\n]}";
+}
+
+absl::StatusOr<std::map<std::string, std::string>> ParseOptions(const std::string& text) {
+  std::map<std::string, std::string> out;
+  for (const auto& part : absl::StrSplit(text, ';', absl::SkipEmpty())) {
+    const std::string s(part);
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      return absl::InvalidArgumentError(absl::StrCat("'", s, "': expected NAME=VALUE"));
+    out[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  return out;
 }
 
 absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric) {

@@ -1,6 +1,7 @@
 #pragma once
 // One-shot simulations of the caterpillar for reports and exports (gaitforge-sim): the
 // same model and build as the workers, run on this machine, no coordinator involved.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,8 @@ namespace gaitforge::simtool {
 // and its JSON sidecar (robot, parameter file, command).
 absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
                             const std::string& params_path, const std::vector<double>& genes,
-                            const std::string& note);
+                            const std::string& note,
+                            const std::vector<std::pair<std::string, double>>& overrides = {});
 
 struct SweepPoint {
   double scale = 0;    // period multiplier (period sweep) or 0 (wave)
@@ -44,8 +46,12 @@ absl::StatusOr<std::vector<std::pair<std::string, double>>> ParseOverrides(const
 absl::StatusOr<std::string> CalibrationEval(
     const caterpillar::CaterpillarParams& params,
     const std::vector<std::pair<std::string, double>>& overrides, const std::string& recordings,
-    const std::string& error_mode, const std::string& metric, int max_shift, int settle,
-    const std::string& out_dir, double rate);
+    const std::map<std::string, std::string>& options,
+    const std::map<std::string, double>& objective_params, const std::string& out_dir,
+    double rate);
+
+// "k=v;k=v" (values may hold commas, e.g. channels=m1.x,m1.z).
+absl::StatusOr<std::map<std::string, std::string>> ParseOptions(const std::string& text);
 
 // "a,b,n": n values evenly spaced from a to b (geometric when `geometric`).
 absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric);

@@ -19,8 +19,11 @@ absl::StatusOr<std::shared_ptr<const recording::Recording>> RecordingCache::Get(
   if (!bytes.ok()) return bytes.status();
   if (recording::ContentHash(bytes->csv, bytes->sidecar) != hash)
     return absl::DataLossError(absl::StrCat("recording ", hash, ": fetched bytes do not match it"));
+  // The coordinator enforced its size limit on upload; the worker takes what it serves.
+  recording::RecordingLimits limits;
+  limits.max_bytes = static_cast<size_t>(1) << 40;
   auto parsed = recording::ParseRecording(bytes->csv, bytes->sidecar, bytes->name,
-                                          bytes->name + ".json");
+                                          bytes->name + ".json", limits);
   if (!parsed.ok()) return parsed.status();
   auto rec = std::make_shared<const recording::Recording>(std::move(*parsed));
   const size_t size = bytes->csv.size() + bytes->sidecar.size();

@@ -235,18 +235,29 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
           if (fetched.count(hash)) continue;
           for (;;) {
             auto r = recordings.Get(hash);
-            if (r.ok() || !Retryable(grpc::Status(static_cast<grpc::StatusCode>(r.status().code()),
-                                                   std::string(r.status().message()))) ||
-                drain.load()) {
+            const grpc::StatusCode code = static_cast<grpc::StatusCode>(r.status().code());
+            const bool transient = !r.ok() && code != grpc::StatusCode::RESOURCE_EXHAUSTED &&
+                                   Retryable(grpc::Status(code, std::string(r.status().message())));
+            if (!transient) {
               fetched.emplace(hash, std::move(r));
               break;
             }
+            if (drain.load()) break;  // leave the batch unevaluated: its leases expire
             spdlog::warn("worker={} fetching recording {}: {}; retrying", info.worker_id(), hash,
                          std::string(r.status().message()));
             backoff.Sleep(drain);
           }
         }
       }
+    }
+    bool all_fetched = true;
+    for (const auto& job : lease.jobs())
+      for (const auto& hash : job.objective().recordings()) all_fetched &= fetched.count(hash) > 0;
+    if (!all_fetched) {
+      // Draining while the coordinator is unreachable: a transient error must not become a
+      // result (results depend only on the job), so the batch goes back by lease expiry.
+      holding = false;
+      break;
     }
     v1::ReportRequest report;
     *report.mutable_worker() = info;
