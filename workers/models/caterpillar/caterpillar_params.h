@@ -50,6 +50,42 @@ struct CaterpillarParams {
     double max_speed_m_per_s = 0;
     double max_excursion_m = 0;
   } simulation;
+  // Candidate physical effects beyond the paper's model (issue 8; the catalog with their
+  // meaning and fit ranges: workers/effects/effects.h). Not read from caterpillar.yaml:
+  // they start at zero, which is OFF and leaves every result bit-identical to the model
+  // without them; calibration sets them by name (param_overrides.h, "effect.*").
+  struct Effects {
+    // A constant force pulling the rear lump (lump 1) backwards (-x), at its centre: the
+    // pneumatic hoses trailing behind the robot (paper 000). N, >= 0.
+    double tether_force_n = 0;
+    // An extra backward pull on lump 1 growing with its forward travel from its start x0:
+    // F = k max(0, x - x0) (hoses drawn out as the robot moves away). N/m, >= 0.
+    double tether_stiffness_n_per_m = 0;
+    // Ground slope about y: gravity tilted to (-g sin s, 0, -g cos s) in the ground frame,
+    // so positive s means uphill when moving +x. rad, |s| <= 0.3.
+    double slope_rad = 0;
+    // Viscous drag on every lump, F = -c v (x and z components, explicit). N s/m, >= 0.
+    double drag_n_s_per_m = 0;
+    // Finite Coulomb friction coefficients for a lump sliding forward / backward. 0 means
+    // "as the model is" (ground.friction: infinite unless a coefficient is set). When either
+    // is > 0, a lump's ground contact uses dContactApprox1 with the coefficient chosen by
+    // the sign of the lump's x velocity at the start of the step (forward if v_x >= 0);
+    // a direction left at 0 keeps the model's ground friction.
+    double friction_forward = 0, friction_backward = 0;
+    // First-order lag of each actuator's push towards its command (0 or force_n): time
+    // constant tau, exact for a command held over a step. s, >= 0 (0 = instant).
+    double actuator_lag_s = 0;
+    // Transport delay of the on/off command: the push acts on the command of d seconds ago
+    // (OFF before the run starts). Continuous in d: a fractional step delays the switch by
+    // the matching share of the step's force. s, 0..0.2.
+    double actuator_delay_s = 0;
+    // Saturating axial link springs: sigma = 1/x_s (1/m); the axial spring force becomes
+    // F = k x / sqrt(1 + (sigma x)^2) (x the axial extension, either sign): stiffness
+    // k / (1 + (sigma x)^2)^(3/2), always positive, force saturating at k x_s. Set each
+    // step through the links' ERP from the extension at the start of the step (the
+    // damping stays c). 1/m, >= 0.
+    double spring_softening = 0;
+  } effects;
 
   // Actuator length at the rest pose: spacing + front_attach_x - rear_attach_x.
   double RestActuatorLength() const {

@@ -1,7 +1,9 @@
 #include "workers/models/caterpillar/caterpillar_sim.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "workers/sim/ode_runtime.h"
 
@@ -24,13 +26,53 @@ CaterpillarSim::CaterpillarSim(const CaterpillarParams& params, const BuildOptio
     : params_(params),
       h_(timestep_s > 0 ? timestep_s : params.simulation.timestep_s),
       world_() {
-  dWorldSetGravity(world_.world(), 0, 0,
-                   options.gravity ? -params.simulation.gravity_m_per_s2 : 0.0);
+  const auto& e = params.effects;
+  if (e.slope_rad != 0 && options.gravity) {
+    // The world frame is the ground's: uphill along +x tilts gravity towards -x.
+    const double g = params.simulation.gravity_m_per_s2;
+    dWorldSetGravity(world_.world(), -g * std::sin(e.slope_rad), 0, -g * std::cos(e.slope_rad));
+  } else {
+    dWorldSetGravity(world_.world(), 0, 0,
+                     options.gravity ? -params.simulation.gravity_m_per_s2 : 0.0);
+  }
   dWorldSetERP(world_.world(), params.simulation.solver_erp);
   dWorldSetCFM(world_.world(), params.simulation.solver_cfm);
   body_ = std::make_unique<CaterpillarBody>(world_.world(), world_.space(), params, options, h_);
   for (int k = 0; k < body_->lump_count(); ++k) start_.push_back(body_->Position(k));
   MeasureLengths();
+
+  if (e.actuator_lag_s != 0 || e.actuator_delay_s != 0) {
+    shaped_push_ = true;
+    push_.assign(body_->actuators().size(), 0.0);
+    if (e.actuator_lag_s != 0) lag_keep_ = std::exp(-h_ / e.actuator_lag_s);
+    if (e.actuator_delay_s != 0) {
+      double steps = e.actuator_delay_s / h_;
+      if (std::fabs(steps - std::round(steps)) < 1e-9) steps = std::round(steps);
+      delay_steps_ = static_cast<int>(std::floor(steps));
+      delay_frac_ = steps - delay_steps_;
+    }
+  }
+  if (e.spring_softening != 0) {
+    // The axial spring of link k is the DBall between lump(k) and lump(k+1) with the short
+    // rest distance (the shear row's is about 1 m).
+    for (int k = 0; k < body_->link_count(); ++k) {
+      dBodyID rear = body_->lump(k), front = body_->lump(k + 1);
+      dJointID axial = nullptr;
+      for (int i = 0; i < dBodyGetNumJoints(rear); ++i) {
+        dJointID j = dBodyGetJoint(rear, i);
+        if (dJointGetType(j) != dJointTypeDBall || dJointGetBody(j, 0) != rear ||
+            dJointGetBody(j, 1) != front) {
+          continue;
+        }
+        if (axial == nullptr || dJointGetDBallDistance(j) < dJointGetDBallDistance(axial)) {
+          axial = j;
+        }
+      }
+      if (axial == nullptr) throw std::logic_error("CaterpillarSim: link without axial spring");
+      axial_joints_.push_back(axial);
+      axial_erp_.push_back(dJointGetDBallParam(axial, dParamERP));
+    }
+  }
 }
 
 void CaterpillarSim::MeasureLengths() {
@@ -49,15 +91,32 @@ void CaterpillarSim::MeasureLengths() {
 // one step of actuator force can add, reaches a limit. Speculative: dContactMotionN lets the
 // length close the remaining gap in this step but not pass it; a length already past the
 // limit is pushed back by stop_erp.
+//
+// Effects: with actuator_delay_s the command is the mask of d seconds ago (DelayedCommand);
+// with actuator_lag_s the ON push follows force_n times the command through a first-order
+// lag, exact for a command held over the step: p <- c + (p - c) exp(-h / tau).
 void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
   const auto& a = params_.actuators;
   const double margin = h_ * h_ * 2 * a.force_n / params_.lumps.mass_kg;
-  for (const auto& act : body_->actuators()) {
+  if (shaped_push_) {
+    mask_history_.push_back(on_mask);
+    while (static_cast<int>(mask_history_.size()) > delay_steps_ + 2) mask_history_.pop_front();
+  }
+  for (size_t i = 0; i < body_->actuators().size(); ++i) {
+    const auto& act = body_->actuators()[i];
     Vec3 r, f;
     double len, rate;
     body_->ActuatorState(act, r, f, len, rate);
     const bool on = (on_mask >> act.index) & 1u;
-    const double push = (on ? a.force_n : 0.0) - a.return_spring_n_per_m * (len - a.min_length_m);
+    double on_push = on ? a.force_n : 0.0;
+    if (shaped_push_) {
+      const double command = DelayedCommand(act.index) * a.force_n;
+      push_[i] = params_.effects.actuator_lag_s != 0
+                     ? command + (push_[i] - command) * lag_keep_
+                     : command;
+      on_push = push_[i];
+    }
+    const double push = on_push - a.return_spring_n_per_m * (len - a.min_length_m);
     const double ux = (f.x - r.x) / len, uy = (f.y - r.y) / len, uz = (f.z - r.z) / len;
     dBodyAddForceAtPos(act.front, push * ux, push * uy, push * uz, f.x, f.y, f.z);
     dBodyAddForceAtPos(act.rear, -push * ux, -push * uy, -push * uz, r.x, r.y, r.z);
@@ -89,18 +148,70 @@ void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
   }
 }
 
+double CaterpillarSim::DelayedCommand(int index) const {
+  // Over this step the delayed command is mask[n - D - 1] for the first `frac` of the step
+  // and mask[n - D] for the rest; masks before the start are 0 (OFF).
+  const int n = static_cast<int>(mask_history_.size()) - 1;  // this step's mask
+  auto bit = [&](int back) -> double {
+    const int i = n - back;
+    return i >= 0 && ((mask_history_[i] >> index) & 1u) ? 1.0 : 0.0;
+  };
+  const double newer = bit(delay_steps_);
+  return delay_frac_ != 0 ? delay_frac_ * bit(delay_steps_ + 1) + (1 - delay_frac_) * newer
+                          : newer;
+}
+
+// Tether, drag and softening springs (params.effects), each skipped at zero. Forces act at
+// the lump centres with the state at the start of the step (explicit).
+void CaterpillarSim::ApplyEffects() {
+  const auto& e = params_.effects;
+  if ((e.tether_force_n != 0 || e.tether_stiffness_n_per_m != 0) &&
+      body_->options().first_lump == 1) {
+    dBodyID rear = body_->lump(0);
+    double pull = e.tether_force_n;
+    if (e.tether_stiffness_n_per_m != 0) {
+      pull += e.tether_stiffness_n_per_m * std::max(0.0, body_->Position(0).x - start_[0].x);
+    }
+    dBodyAddForce(rear, -pull, 0, 0);
+  }
+  if (e.drag_n_s_per_m != 0) {
+    for (int k = 0; k < body_->lump_count(); ++k) {
+      const dReal* v = dBodyGetLinearVel(body_->lump(k));
+      dBodyAddForce(body_->lump(k), -e.drag_n_s_per_m * v[0], 0, -e.drag_n_s_per_m * v[2]);
+    }
+  }
+  if (e.spring_softening != 0) {
+    // ERP = h k / c: scaling it scales the spring and leaves the damper c (CFM) alone.
+    for (size_t k = 0; k < axial_joints_.size(); ++k) {
+      const double sx = e.spring_softening * body_->LinkExtension(static_cast<int>(k));
+      dJointSetDBallParam(axial_joints_[k], dParamERP, axial_erp_[k] / std::sqrt(1 + sx * sx));
+    }
+  }
+}
+
 // The ground z = 0 touches the corners of each lump's x-z section (the bottom face's front
 // and rear edges when flat; any corner after a flip). Motion is planar, so one contact per
 // edge on the centre plane stands for the box's two corners. Infinite friction (paper) is an
 // unbounded row along x; a lump needs one (on its deepest corner), since the friction rows
 // of two corners on one face would be the same row twice. None is needed across the plane.
+// Anisotropic friction (effects.friction_forward/backward): the coefficient of the lump's
+// direction of motion at the start of the step, finite (dContactApprox1: each row bounded
+// by mu times its own contact's normal force); a direction at 0 keeps the ground's own
+// friction. These finite rows go on every touching corner, so the bound is mu times the
+// lump's whole normal force (Coulomb: a passive lump on a slope slides at
+// g (sin s - mu cos s)). Bounded rows may repeat each other; the infinite row may not.
+// (ground.friction_coefficient keeps its single row on the deepest corner, bounded by that
+// corner's share of the normal force: about mu/2 of the weight for a flat lump.)
 void CaterpillarSim::AddGroundContacts() {
   ground_contacts_ = 0;
   if (!body_->options().ground) return;
   const auto& L = params_.lumps;
   const auto& g = params_.ground;
+  const auto& e = params_.effects;
+  const bool anisotropic = e.friction_forward != 0 || e.friction_backward != 0;
+  const int base_mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM;
   dContact c{};
-  c.surface.mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM;
+  c.surface.mode = base_mode;
   if (!g.infinite_friction) c.surface.mode |= dContactApprox1;
   c.surface.mu2 = 0;
   c.surface.soft_erp = g.contact_erp;
@@ -109,6 +220,15 @@ void CaterpillarSim::AddGroundContacts() {
   c.fdir1[0] = 1;
   for (int k = 0; k < body_->lump_count(); ++k) {
     dBodyID b = body_->lump(k);
+    double lump_mu = g.infinite_friction ? dInfinity : g.friction_coefficient;
+    bool every_corner = false;
+    if (anisotropic) {
+      const double mu = dBodyGetLinearVel(b)[0] >= 0 ? e.friction_forward : e.friction_backward;
+      const bool finite = mu > 0 || !g.infinite_friction;
+      if (mu > 0) lump_mu = mu;
+      every_corner = mu > 0;
+      c.surface.mode = base_mode | (finite ? dContactApprox1 : 0);
+    }
     dVector3 corners[4];
     int deepest = -1;
     for (int corner = 0; corner < 4; ++corner) {
@@ -126,8 +246,7 @@ void CaterpillarSim::AddGroundContacts() {
       c.geom.pos[1] = p[1];
       c.geom.pos[2] = p[2];
       c.geom.depth = -p[2];
-      const double mu = g.infinite_friction ? dInfinity : g.friction_coefficient;
-      c.surface.mu = corner == deepest ? mu : 0;
+      c.surface.mu = corner == deepest || every_corner ? lump_mu : 0;
       dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), b, nullptr);
       ++ground_contacts_;
     }
@@ -169,6 +288,7 @@ sim::SimOutcome CaterpillarSim::Step(uint32_t on_mask) {
   const std::vector<double> before = lengths_;
   try {
     ApplyActuators(on_mask);
+    ApplyEffects();
     AddGroundContacts();
     AddLumpContacts();
     body_->UpdateLinkAngles();
@@ -183,7 +303,9 @@ sim::SimOutcome CaterpillarSim::Step(uint32_t on_mask) {
   MeasureLengths();
   last_work_ = 0;
   for (size_t i = 0; i < lengths_.size(); ++i) {
-    if ((on_mask >> body_->actuators()[i].index) & 1u) {
+    if (shaped_push_) {
+      last_work_ += push_[i] * (lengths_[i] - before[i]);
+    } else if ((on_mask >> body_->actuators()[i].index) & 1u) {
       last_work_ += params_.actuators.force_n * (lengths_[i] - before[i]);
     }
   }

@@ -1,7 +1,10 @@
 #pragma once
 // Steps the caterpillar: per step, actuator forces (ON push plus return spring), stroke
-// stops, ground and lump-lump contacts, one dWorldStep, then a divergence check.
+// stops, ground and lump-lump contacts, the candidate effects of params.effects (tether,
+// drag, slope, anisotropic friction, actuator lag and delay, softening springs; all OFF at
+// zero), one dWorldStep, then a divergence check.
 #include <cstdint>
+#include <deque>
 #include <memory>
 
 #include "workers/models/caterpillar/caterpillar_body.h"
@@ -30,13 +33,18 @@ class CaterpillarSim {
 
   // Measured during the last Step.
   int ground_contacts() const { return ground_contacts_; }
-  // Work (J) of the ON actuator forces during the last step: F times the length change.
+  // Work (J) of the ON actuator forces during the last step: F times the length change
+  // (with actuator lag or delay: the push actually applied, which may act while OFF).
   double last_actuator_work() const { return last_work_; }
   // Actuator lengths (m) after the last step, in actuators() order.
   const std::vector<double>& actuator_lengths() const { return lengths_; }
 
  private:
   void ApplyActuators(uint32_t on_mask);
+  // Fraction (0..1) of actuator `index`'s push commanded during this step after the
+  // transport delay; the current mask must already be in mask_history_.
+  double DelayedCommand(int index) const;
+  void ApplyEffects();
   void AddGroundContacts();
   void AddLumpContacts();
   sim::SimOutcome CheckState();
@@ -51,6 +59,16 @@ class CaterpillarSim {
   double last_work_ = 0;
   std::vector<double> lengths_;
   std::vector<Vec3> start_;
+
+  // Effects state (params.effects).
+  bool shaped_push_ = false;              // actuator lag or delay is on
+  double lag_keep_ = 0;                   // exp(-h / tau): share of the old push kept
+  int delay_steps_ = 0;                   // whole steps of the delay ...
+  double delay_frac_ = 0;                 // ... and the fraction of one more
+  std::deque<uint32_t> mask_history_;     // commanded masks, newest last
+  std::vector<double> push_;              // applied ON push per actuator (N)
+  std::vector<dJointID> axial_joints_;    // per link, for spring softening
+  std::vector<double> axial_erp_;         // their linear-spring ERP
 };
 
 }  // namespace gaitforge::caterpillar

@@ -39,6 +39,16 @@ const std::vector<Field>& Fields() {
       {"ground.contact_erp", "", 0.01, 1, GF_REF(ground.contact_erp)},
       {"ground.contact_cfm", "m/(N s)", 0, 1e-2, GF_REF(ground.contact_cfm)},
       {"ground.friction_coefficient", "", 0, 10, GF_REF(ground.friction_coefficient)},
+      // Candidate effects (CaterpillarParams::Effects; 0 = off).
+      {"effect.tether_force_n", "N", 0, 20, GF_REF(effects.tether_force_n)},
+      {"effect.tether_stiffness_n_per_m", "N/m", 0, 1000, GF_REF(effects.tether_stiffness_n_per_m)},
+      {"effect.slope_rad", "rad", -0.3, 0.3, GF_REF(effects.slope_rad)},
+      {"effect.drag_n_s_per_m", "N s/m", 0, 10, GF_REF(effects.drag_n_s_per_m)},
+      {"effect.friction_forward", "", 0, 10, GF_REF(effects.friction_forward)},
+      {"effect.friction_backward", "", 0, 10, GF_REF(effects.friction_backward)},
+      {"effect.actuator_lag_s", "s", 0, 1, GF_REF(effects.actuator_lag_s)},
+      {"effect.actuator_delay_s", "s", 0, 0.2, GF_REF(effects.actuator_delay_s)},
+      {"effect.spring_softening", "1/m", 0, 1000, GF_REF(effects.spring_softening)},
   };
   return fields;
 }

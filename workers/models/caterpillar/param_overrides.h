@@ -20,6 +20,19 @@
 //   ground.contact_cfm                         m/(N s)  [0, 1e-2]
 //   ground.friction_coefficient                -        [0, 10]; also sets finite
 //                                                        (Coulomb) friction
+// Candidate effects (CaterpillarParams::Effects, caterpillar_params.h; not in
+// caterpillar.yaml, 0 = off; their catalog: workers/effects/effects.h):
+//   effect.tether_force_n                      N        [0, 20]   constant backward pull on lump 1
+//   effect.tether_stiffness_n_per_m            N/m      [0, 1000] + k * forward travel of lump 1
+//   effect.slope_rad                           rad      [-0.3, 0.3] ground slope, + uphill along +x
+//   effect.drag_n_s_per_m                      N s/m    [0, 10]   viscous drag on every lump
+//                                                        (explicit: stable while c h / m < 2)
+//   effect.friction_forward                    -        [0, 10]   Coulomb coefficient sliding +x
+//   effect.friction_backward                   -        [0, 10]   ... sliding -x (0: model's own)
+//   effect.actuator_lag_s                      s        [0, 1]    first-order lag of the push
+//   effect.actuator_delay_s                    s        [0, 0.2]  transport delay of on/off
+//   effect.spring_softening                    1/m      [0, 1000] 1/x_s: axial spring force
+//                                                        k x / sqrt(1 + (x/x_s)^2)
 // Scale (a positive finite factor multiplying the current value; the result must stay in
 // the fields' ranges):
 //   scale.link_stiffness     all four link stiffnesses (axial and bending, flexure and segment)

@@ -1,0 +1,163 @@
+#include "workers/effects/effects.h"
+
+namespace gaitforge::effects {
+
+const std::vector<EffectInfo>& EffectCatalog() {
+  static const std::vector<EffectInfo> catalog = {
+      {"tether.constant",
+       "Hose tether, constant pull",
+       "The pneumatic supply hoses trail behind the robot and pull its rear lump (lump 1) "
+       "backwards (-x) with a constant force F at its centre. Paper 000 blames the hoses for "
+       "the hardware covering 35% of the simulated distance (11% to 74%). On the evolved "
+       "forward gait of the tests (about 3 cm per cycle) F = 1.05 to 1.1 N leaves about 35% "
+       "of the travel (timestep mean); from about 1.5 N the robot goes backwards.",
+       {{"effect.tether_force_n", 0, 2.5, 0, "N"}},
+       "Real travel per cycle shorter than simulated for every gait by a deficit that stays "
+       "the same throughout a run; the rear markers (m1, m2) fall behind most, backward slips "
+       "show while the robot hops; stroke amplitudes and timing still match.",
+       "Run the same gait towards the hose supply and away from it (paper 000's qualitative "
+       "test) or with the hoses supported overhead: a tether deficit flips or vanishes with "
+       "the hoses' direction, slope flips with the track's direction, friction and actuator "
+       "effects do neither. A force gauge on the hoses of the resting robot measures F."},
+      {"tether.growing",
+       "Hose tether, growing with travel",
+       "Hoses drawn out as the robot moves away from the supply: a backward pull on lump 1 "
+       "growing with its forward travel from the start, F = k max(0, x - x0). On the tests' "
+       "forward gait (12 cycles) k = 10 N/m leaves about 35% of the travel.",
+       {{"effect.tether_stiffness_n_per_m", 0, 50, 0, "N/m"}},
+       "Distance per cycle that decays along a run: the first cycles close to the "
+       "simulation, later ones shorter; a longer run has a lower mean speed. (A constant "
+       "tether gives the same deficit in every cycle.)",
+       "Compare the first and last cycles of a long run, or start the same gait at "
+       "different distances from the hose supply: a growing tether slows the robot with the "
+       "distance travelled, a constant one does not."},
+      {"ground.slope",
+       "Ground slope",
+       "The test track is not level: gravity tilted about y by the slope s, "
+       "(-g sin s, 0, -g cos s) in the ground frame; positive s is uphill along +x.",
+       {{"effect.slope_rad", -0.3, 0.3, 0, "rad"}},
+       "A travel deficit (uphill) or surplus (downhill) that follows the track's direction, "
+       "largest for gaits with much airborne time or sliding; with finite friction the "
+       "resting robot creeps downhill.",
+       "Run the gait both ways along the same track: a slope changes sign with the heading "
+       "(a tether follows the hoses instead); or measure the track with an inclinometer."},
+      {"friction.viscous",
+       "Viscous drag",
+       "A velocity-proportional resistance on every lump (air, adhesion and hysteresis of "
+       "the soft feet), F = -c v in x and z, at the lump centre (paper 002 models resistive "
+       "forces as viscous plus Coulomb friction). Explicit: stable while c h / m < 2.",
+       {{"effect.drag_n_s_per_m", 0, 3, 0, "N s/m"}},
+       "A deficit growing with speed: fast gaits and short periods lose more than slow ones; "
+       "lower, shorter hops (smaller z amplitude), motion after each switch dying out sooner.",
+       "A period sweep of one gait: drag costs travel roughly in proportion to speed, a "
+       "tether a constant amount per cycle; or drag the passive robot at two speeds with a "
+       "force gauge."},
+      {"friction.anisotropic",
+       "Finite, direction-dependent friction",
+       "Finite Coulomb friction of the feet with one coefficient for sliding forward and "
+       "another for sliding backward (texture of the soft feet, a ratchet-like contact), "
+       "chosen per lump by the sign of its x velocity. 0 keeps the model's no-slip ground in "
+       "that direction, so the range is not continuous at 0.",
+       {{"effect.friction_forward", 0, 3, 0, ""}, {"effect.friction_backward", 0, 3, 0, ""}},
+       "Feet that slip: markers of lumps that should stand still drift during their "
+       "neighbours' strokes. Easy backward slip loses travel (the evolved forward gait even "
+       "reverses); easy forward slip changes how much of each stroke becomes travel.",
+       "Inclined-plane test (paper 001): tilt the passive robot until it slides, facing "
+       "uphill and facing downhill; tan of each critical angle is the backward and the "
+       "forward coefficient. A pull test with a force gauge in each direction does the same."},
+      {"actuator.lag",
+       "Actuator force lag",
+       "The pistons build and release pressure gradually: each actuator's push follows its "
+       "command (0 or force_n) through a first-order lag with time constant tau (paper 001: "
+       "servo lag).",
+       {{"effect.actuator_lag_s", 0, 0.1, 0, "s"}},
+       "Strokes slower and smaller than simulated, most for short ON windows and short "
+       "periods; rise and fall of the actuator length both rounded; less work per cycle.",
+       "Step response of one actuator on the bench, length (or pressure) after a valve "
+       "switch: a lag rounds the rise, a pure delay shifts it unchanged. A period sweep: a "
+       "lag hurts short periods far more than long ones."},
+      {"actuator.delay",
+       "Actuator command delay",
+       "Transport delay of the on/off command (valves, hose volume): each piston acts on "
+       "its command of d seconds ago; continuous in d (a fraction of a step delays that "
+       "share of the step's force).",
+       {{"effect.actuator_delay_s", 0, 0.2, 0, "s"}},
+       "The real motion is the simulated one later by a fixed time: the shape error's best "
+       "shift is the same number of seconds in every recording (a larger share of the cycle "
+       "at short periods) while stroke amplitudes match.",
+       "Record the valve command together with an actuator's markers: a delay is a constant "
+       "time between command and start of motion with an unchanged rise. A recording that "
+       "starts at the first command tells it from a clock offset (nuisance.time_offset_s): "
+       "only the delay keeps the robot still for d after the start."},
+      {"actuator.force_scale",
+       "Actuator force",
+       "The piston force differs from the paper's 8.8 N (supply pressure, leaks, piston "
+       "friction); all six actuators together.",
+       {{"actuators.force_n", 3, 12, 8.8, "N"}},
+       "Strokes faster or slower to their stops for every actuator alike, hops higher or "
+       "lower, more or less airborne time; timing of the switches unchanged.",
+       "Blocked force of one actuator with a load cell at the supply pressure, or the time "
+       "to full stroke of a free actuator: a lag changes the shape of the rise, the force "
+       "its rate."},
+      {"contact.softness",
+       "Soft ground contact",
+       "The silicone feet (and the ground) compress: ODE's contact CFM (m/(N s)); the "
+       "contact stiffness is ERP / (h CFM). The range spans decades: search its logarithm.",
+       {{"ground.contact_cfm", 1e-6, 1e-2, 1e-5, "m/(N s)"}},
+       "Lumps sitting lower than simulated (z offsets of the markers at rest), softer "
+       "landings after hops, small extra compliance in every stroke.",
+       "Static indentation of a foot under a known load; or the markers' z at rest against "
+       "the geometry."},
+      {"mass.offset",
+       "Mass",
+       "The lump masses differ from the CAD volume fill (tubing, fittings, glue): every lump "
+       "scaled by the same factor; damping follows as a ratio of critical.",
+       {{"scale.mass", 0.5, 2, 1, ""}},
+       "Slower or faster dynamics for every gait: lower or higher hops, strokes reaching "
+       "their stops later or sooner, a different best period of a period sweep.",
+       "Weigh the robot with and without its hoses."},
+      {"stiffness.scale",
+       "Link stiffness",
+       "The silicone's modulus (paper: 435 kPa) or the FEA stiffnesses off: all four link "
+       "stiffnesses (axial and bending, flexure and segment) scaled by one factor.",
+       {{"scale.link_stiffness", 0.3, 3, 1, ""}},
+       "Neighbouring lumps follow a stroke more or less than simulated: body bending and "
+       "stretching amplitudes off in proportion for small and large motions alike.",
+       "Static deflection under known loads (paper 001): stretch and bend of a segment "
+       "against the load; a straight line whose slope is off points here, a curved one at "
+       "spring.softening."},
+      {"spring.softening",
+       "Softening axial springs",
+       "The axial links soften as they stretch or compress (hyperelastic silicone, "
+       "buckling flexures; paper 004: stiffness falling with deformation): axial force "
+       "k x / sqrt(1 + (sigma x)^2) with sigma = 1/x_s, tangent stiffness "
+       "k / (1 + (sigma x)^2)^(3/2), the force saturating at k x_s.",
+       {{"effect.spring_softening", 0, 500, 0, "1/m"}},
+       "Small motions match but large strokes stretch the links more than linear springs "
+       "predict: the error grows with stroke amplitude and force, unlike a uniform "
+       "stiffness scale.",
+       "Load-extension curve of one flexure to several millimetres: linear springs give a "
+       "straight line, softening bends it (sigma from its curvature)."},
+      {"model.resolution",
+       "Model resolution",
+       "Six lumps stand for a continuum body (paper 000: the \"highly approximate\" "
+       "six-component model); a finer build of the same robot disagreed with the six-lump "
+       "one by up to 1.2 cm per cycle, sometimes in sign (../shared/robots/caterpillar.md). "
+       "No parameter expresses it: not available as a fitted effect in this build.",
+       {},
+       "Residuals that no other effect explains consistently: differing in sign between "
+       "gaits, largest for gaits that bend the body most or hop.",
+       "Compare the six-lump model with a finer lumped model or an FEA model on the same "
+       "gaits; the difference, not the hardware, then bounds what fitting can achieve."},
+  };
+  return catalog;
+}
+
+const EffectInfo* FindEffect(std::string_view id) {
+  for (const EffectInfo& e : EffectCatalog()) {
+    if (e.id == id) return &e;
+  }
+  return nullptr;
+}
+
+}  // namespace gaitforge::effects
