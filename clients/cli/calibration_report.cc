@@ -17,9 +17,11 @@
 namespace gaitforge::cli {
 namespace {
 
+}  // namespace
+
 // Downloads a recording into dir; returns the CSV path ("" on failure, with a message).
-std::string Download(Connection& conn, const std::string& hash, const std::string& dir,
-                     const GlobalOptions& g) {
+std::string DownloadRecording(Connection& conn, const std::string& hash, const std::string& dir,
+                              const GlobalOptions& g) {
   auto stub = v1::RecordingService::NewStub(conn.channel());
   grpc::ClientContext ctx;
   SetDeadline(ctx, g.timeout_s);
@@ -36,6 +38,8 @@ std::string Download(Connection& conn, const std::string& hash, const std::strin
   std::ofstream(path + ".json", std::ios::binary) << resp.sidecar();
   return path;
 }
+
+namespace {
 
 // Runs gaitforge-sim calibration-eval; returns its JSON or "".
 std::string Evaluate(const std::vector<std::string>& files, const std::string& set,
@@ -86,12 +90,12 @@ int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std
   std::filesystem::create_directories(dir, ec);
   std::vector<std::string> train, held;
   for (const auto& h : spec.objective().recordings()) {
-    const std::string f = Download(conn, h, dir, g);
+    const std::string f = DownloadRecording(conn, h, dir, g);
     if (f.empty()) return kFailed;
     train.push_back(f);
   }
   for (const auto& h : spec.objective().held_out()) {
-    const std::string f = Download(conn, h, dir, g);
+    const std::string f = DownloadRecording(conn, h, dir, g);
     if (f.empty()) return kFailed;
     held.push_back(f);
   }

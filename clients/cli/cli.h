@@ -101,6 +101,13 @@ int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::Stu
 int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
                       const GlobalOptions& g, std::vector<std::string>* written);
 
+int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+                int threads, const std::string& out_dir);
+// Starts local worker processes against target (logs next to the database).
+std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
+                                     int threads);
+std::string PlotScriptPath();
+
 // Runs clients/python/gaitforge_plot.py with args; returns its exit code.
 int RunPlotScript(const std::vector<std::string>& args);
 

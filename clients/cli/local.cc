@@ -36,14 +36,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
   std::string id = start(conn.study());
   if (id.empty()) return *start_code;
-  std::vector<pid_t> pids;
-  for (int i = 0; i < workers; ++i) {
-    const std::string log = logs + "/worker-" + std::to_string(i) + ".log";
-    pids.push_back(Spawn({SiblingBinary("gaitforge-worker"), "--coordinator", conn.target(),
-                          "--threads", std::to_string(threads), "--worker-id",
-                          "local-" + std::to_string(i) + "-" + std::to_string(getpid())},
-                         log));
-  }
+  std::vector<pid_t> pids = StartLocalWorkers(g, conn.target(), workers, threads);
   if (!g.json)
     std::cerr << "study " << id << ": " << workers << " local worker(s) x " << threads
               << " thread(s); database " << g.db << "; logs in " << logs << "/\n";
@@ -72,6 +65,20 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
 }
 
 }  // namespace
+
+std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
+                                     int threads) {
+  const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
+  std::vector<pid_t> pids;
+  for (int i = 0; i < workers; ++i) {
+    const std::string log = logs + "/worker-" + std::to_string(i) + ".log";
+    pids.push_back(Spawn({SiblingBinary("gaitforge-worker"), "--coordinator", target, "--threads",
+                          std::to_string(threads), "--worker-id",
+                          "local-" + std::to_string(i) + "-" + std::to_string(getpid())},
+                         log));
+  }
+  return pids;
+}
 
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
              int threads, const std::string& out_dir) {

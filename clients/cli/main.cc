@@ -27,6 +27,8 @@ const char* kCommands =
     "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out\n"
     "  trajectory ID   markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
     "                  --rank R, --generation G, --rate HZ, --cycles N)\n"
+    "  diagnose SPEC   the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
+    "                  fit it and show the held-out error fall (docs/diagnosis.md)\n"
     "  recording add FILE.csv   upload a recording (+ FILE.csv.json sidecar); prints its hash\n"
     "  recording list           the stored recordings\n"
     "  resume ID       continue a cancelled or interrupted study\n"
@@ -117,6 +119,7 @@ int main(int argc, char** argv) {
   if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
+  if (cmd == "diagnose") return cli::CmdDiagnose(g, args, workers, threads, out_dir);
   if (cmd == "recording") return cli::CmdRecording(g, args, sidecar);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
   if (cmd == "trajectory")

@@ -26,6 +26,8 @@ std::string Python() {
 
 }  // namespace
 
+std::string PlotScriptPath() { return PlotScript(); }
+
 int RunPlotScript(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {Python(), PlotScript()};
   argv.insert(argv.end(), args.begin(), args.end());

@@ -47,7 +47,9 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
          true},
         {"settle_cycles", 0, 20, 2, "gait cycles from rest before measuring", true},
         {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"}},
-       CaterpillarGaitSpace(), 13},
+       CaterpillarGaitSpace(), 13,
+       // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
+       {{"set", {}}}},
       {"caterpillar.calibration",
        "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
        "-(mean error over the recordings) between recorded and simulated markers (m; relative "

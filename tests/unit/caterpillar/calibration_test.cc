@@ -97,6 +97,7 @@ TEST(CalibrationParams, EveryListedNameIsSettable) {
                      : name == "actuators.max_length_m"                  ? 0.06
                      : name == "ground.contact_cfm"                      ? 1e-4
                      : name.rfind("effect.", 0) == 0                     ? 0.1
+                     : name == "simulation.timestep_s"                   ? 5e-4
                      : name.find("axial_stiffness") != std::string::npos ? 500
                                                                          : 0.5;
     EXPECT_TRUE(SetParam(p, name, v).ok()) << name;

@@ -389,6 +389,8 @@ objectives::EvalResult CalibrationObjective::Evaluate(const objectives::EvalInpu
       return r;
     }
   }
+  // Without an explicit timestep_ms, the (possibly overridden) parameters' own timestep.
+  if (!in.params.count("timestep_ms")) settings->timestep_s = params.simulation.timestep_s;
   if (in.recordings.empty()) {
     r.reason = "caterpillar.calibration needs at least one recording";
     return r;

@@ -1,5 +1,10 @@
 #include "workers/models/caterpillar/caterpillar_objective.h"
 
+#include <cstdlib>
+
+#include "absl/strings/str_split.h"
+#include "workers/models/caterpillar/param_overrides.h"
+
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -47,11 +52,30 @@ objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInpu
     r.reason = std::string(gait.status().message());
     return r;
   }
+  // Option "set": parameter overrides NAME=VALUE,... (a model corrected by the gap finder).
+  CaterpillarParams params = params_;
+  if (auto it = in.options.find("set"); it != in.options.end()) {
+    for (const auto& part : absl::StrSplit(it->second, ',', absl::SkipEmpty())) {
+      const std::string item(part);
+      const size_t eq = item.find('=');
+      char* end = nullptr;
+      const double v = eq == std::string::npos ? 0 : std::strtod(item.c_str() + eq + 1, &end);
+      if (eq == std::string::npos || !end || *end) {
+        r.reason = "option set: '" + item + "' is not NAME=NUMBER";
+        return r;
+      }
+      if (auto s = SetParam(params, item.substr(0, eq), v); !s.ok()) {
+        r.reason = "option set: " + std::string(s.message());
+        return r;
+      }
+    }
+  }
   EvalOptions options;
   options.measured_cycles = static_cast<int>(cycles);
   options.settle_cycles = static_cast<int>(settle);
-  options.timestep_s = timestep_ms * 1e-3;
-  const GaitEvaluation e = EvaluateGait(params_, *gait, options);
+  // An explicit timestep_ms wins; otherwise the (possibly overridden) parameter file's.
+  options.timestep_s = in.params.count("timestep_ms") ? timestep_ms * 1e-3 : 0.0;
+  const GaitEvaluation e = EvaluateGait(params, *gait, options);
   r.metrics["simulated_s"] = e.simulated_s;
   if (!e.valid) {
     r.reason = e.reason;

@@ -39,6 +39,8 @@ const std::vector<Field>& Fields() {
       {"ground.contact_erp", "", 0.01, 1, GF_REF(ground.contact_erp)},
       {"ground.contact_cfm", "m/(N s)", 0, 1e-2, GF_REF(ground.contact_cfm)},
       {"ground.friction_coefficient", "", 0, 10, GF_REF(ground.friction_coefficient)},
+      // The model's resolution in time (a reference rig may step finer than the model).
+      {"simulation.timestep_s", "s", 5e-5, 2e-3, GF_REF(simulation.timestep_s)},
       // Candidate effects (CaterpillarParams::Effects; 0 = off).
       {"effect.tether_force_n", "N", 0, 20, GF_REF(effects.tether_force_n)},
       {"effect.tether_stiffness_n_per_m", "N/m", 0, 1000, GF_REF(effects.tether_stiffness_n_per_m)},

@@ -1,0 +1,563 @@
+// `gaitforge diagnose SPEC`: the gap finder (docs/diagnosis.md). A study of calibration
+// studies run on the coordinator and its workers:
+//   1. baseline: calibrate the base model (its uncertain parameters and the time offset;
+//      marker offsets are profiled out);
+//   2. locate: slice the baseline's residuals (clients/python/gaitforge_locate.py);
+//   3. screen every candidate effect (workers/effects) with a short fit, all at once;
+//   4. refit the leading candidates fully, and pairs of them;
+//   5. decide by BIC on the training error and by the held-out error: "found" only when an
+//      effect beats the baseline by the BIC margin AND brings the held-out error 15% below
+//      the noise floor (the best held-out error of the baseline under numerically
+//      irrelevant changes: timestep, contact softness); two effects within the margin of
+//      each other: "ambiguous", with an experiment that tells them apart; else "none".
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "clients/cli/cli.h"
+#include "clients/cli/processes.h"
+#include "gaitforge/v1/diagnosis.pb.h"
+#include "services/recording/recording.h"
+#include "services/spec/spec_loader.h"
+#include "workers/effects/effects.h"
+
+namespace gaitforge::cli {
+
+std::string DownloadRecording(Connection& conn, const std::string& hash, const std::string& dir,
+                              const GlobalOptions& g);
+
+namespace {
+
+constexpr double kHeldOutGain = 0.15;  // a discovery must cut the held-out error this much
+
+struct Candidate {
+  std::string label;                  // effect id(s), "baseline" for none
+  std::vector<std::string> effects;   // effect ids
+  std::vector<v1::GeneBound> genes;   // what the study fits
+  std::vector<double> mean0;
+  std::string study_id;
+  bool ok = false;
+  std::string reason;
+  std::vector<double> values, spread;
+  double train = NAN, held = NAN, bic = NAN;
+  int k = 0;                          // fitted parameters (nuisances included)
+};
+
+v1::GeneBound Bound(const std::string& name, double lo, double hi) {
+  v1::GeneBound b;
+  b.set_name(name);
+  b.set_lo(lo);
+  b.set_hi(hi);
+  return b;
+}
+
+absl::Status Validate(const v1::DiagnosisSpec& d) {
+  if (d.robot() != "caterpillar")
+    return absl::InvalidArgumentError(absl::StrCat("field 'robot': '", d.robot(),
+                                                   "' is not a robot gaitforge can diagnose "
+                                                   "(known: caterpillar)"));
+  if (d.training_size() == 0)
+    return absl::InvalidArgumentError("field 'training': at least one recording is required");
+  if (d.held_out_size() == 0)
+    return absl::InvalidArgumentError(
+        "field 'held_out': at least one recording is required (decisions rest on it)");
+  for (int i = 0; i < d.candidates_size(); ++i) {
+    const auto* e = effects::FindEffect(d.candidates(i));
+    if (!e || e->params.empty())
+      return absl::InvalidArgumentError(absl::StrCat(
+          "field 'candidates[", i, "]': '", d.candidates(i),
+          "' is not a fittable effect (docs/effects.md lists them)"));
+  }
+  for (int i = 0; i < d.base_parameters_size(); ++i) {
+    const auto& b = d.base_parameters(i);
+    if (b.name().empty() || !(b.lo() < b.hi()))
+      return absl::InvalidArgumentError(absl::StrCat(
+          "field 'base_parameters[", i, "]': needs a name and lo < hi"));
+  }
+  if (d.time_offset_range_s() < 0 || d.time_offset_range_s() > 1)
+    return absl::InvalidArgumentError("field 'time_offset_range_s': out of range [0, 1] s");
+  if (d.screening_evaluations() < 8 || d.full_evaluations() < 8)
+    return absl::InvalidArgumentError(
+        "fields 'screening_evaluations' and 'full_evaluations': at least 8");
+  if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
+  if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
+    return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
+  return absl::OkStatus();
+}
+
+void Defaults(v1::DiagnosisSpec* d) {
+  if (d->name().empty()) d->set_name("diagnosis");
+  if (d->robot().empty()) d->set_robot("caterpillar");
+  if (!d->has_time_offset_range_s()) d->set_time_offset_range_s(0.05);
+  if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
+  if (!d->has_full_evaluations()) d->set_full_evaluations(480);
+  if (!d->has_top()) d->set_top(3);
+  if (!d->has_try_pairs()) d->set_try_pairs(true);
+  if (d->error().empty()) d->set_error("shape");
+  if (!d->has_margin()) d->set_margin(10);
+  if (d->candidates_size() == 0)
+    for (const auto& e : effects::EffectCatalog())
+      if (!e.params.empty()) d->add_candidates(e.id);
+}
+
+Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids) {
+  Candidate c;
+  c.effects = effect_ids;
+  c.label = effect_ids.empty() ? "baseline" : absl::StrJoin(effect_ids, "+");
+  for (const auto& b : d.base_parameters()) {
+    c.genes.push_back(b);
+    c.mean0.push_back(0.5 * (b.lo() + b.hi()));
+  }
+  for (const auto& id : effect_ids) {
+    for (const auto& p : effects::FindEffect(id)->params) {
+      c.genes.push_back(Bound(p.name, p.lo, p.hi));
+      c.mean0.push_back(p.nominal);
+    }
+  }
+  if (d.time_offset_range_s() > 0) {
+    c.genes.push_back(Bound("nuisance.time_offset_s", -d.time_offset_range_s(),
+                            d.time_offset_range_s()));
+    c.mean0.push_back(0.0);
+  }
+  c.k = static_cast<int>(c.genes.size());
+  return c;
+}
+
+v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
+                       const std::vector<std::string>& train, const std::vector<std::string>& held) {
+  v1::StudySpec s;
+  s.set_name(absl::StrCat(d.name(), "-", c.label));
+  s.set_seed(d.seed());
+  s.set_engine("cmaes");
+  s.set_population(8);
+  s.set_generations(100000);
+  auto* o = s.mutable_objective();
+  o->set_name("caterpillar.calibration");
+  (*o->mutable_options())["error"] = d.error();
+  for (const auto& h : train) o->add_recordings(h);
+  for (const auto& h : held) o->add_held_out(h);
+  for (const auto& b : c.genes) *s.add_bounds() = b;
+  auto* cm = s.mutable_cmaes();
+  for (double m : c.mean0) cm->add_mean0(m);
+  cm->set_sigma0(0.25);
+  cm->set_restarts("none");
+  cm->set_max_evaluations(evaluations);
+  return s;
+}
+
+// Creates the studies and waits for all of them; fills study_id, values, spread, train.
+int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
+               int evaluations, const std::vector<std::string>& train,
+               const std::vector<std::string>& held, const GlobalOptions& g, const char* stage) {
+  for (auto* c : cands) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::CreateStudyRequest req;
+    *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held);
+    v1::CreateStudyResponse resp;
+    grpc::Status s = conn.study().CreateStudy(&ctx, req, &resp);
+    if (!s.ok()) return ReportRpcError(s, absl::StrCat("diagnose: ", c->label));
+    c->study_id = resp.study().study_id();
+  }
+  int shown = -1;
+  const bool tty = isatty(STDERR_FILENO);
+  for (;;) {
+    int done = 0;
+    for (auto* c : cands) {
+      grpc::ClientContext ctx;
+      SetDeadline(ctx, g.timeout_s);
+      v1::GetStudyRequest req;
+      req.set_study_id(c->study_id);
+      v1::StudySummary sum;
+      grpc::Status s = conn.study().GetStudy(&ctx, req, &sum);
+      if (!s.ok()) return ReportRpcError(s, "diagnose: watch " + c->study_id);
+      if (sum.state() != v1::STUDY_STATE_RUNNING) ++done;
+    }
+    if (!g.json && done != shown) {
+      std::cerr << (tty ? "\r" : "") << stage << ": " << done << "/" << cands.size()
+                << " fits done" << (tty ? "   " : "\n") << std::flush;
+      shown = done;
+    }
+    if (done == static_cast<int>(cands.size())) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  if (!g.json && tty) std::cerr << "\n";
+  for (auto* c : cands) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::GetHallOfFameRequest req;
+    req.set_study_id(c->study_id);
+    v1::GetHallOfFameResponse hof;
+    grpc::Status s = conn.study().GetHallOfFame(&ctx, req, &hof);
+    if (!s.ok() || hof.entries_size() == 0 || !hof.entries(0).individual().evaluation().valid()) {
+      c->reason = s.ok() ? "no valid fit" : s.error_message();
+      continue;
+    }
+    const auto& best = hof.entries(0).individual();
+    c->values.assign(best.genes().begin(), best.genes().end());
+    c->spread.assign(hof.spread().begin(), hof.spread().end());
+    c->train = -best.evaluation().fitness();
+    c->ok = true;
+  }
+  return kOk;
+}
+
+std::string SetArg(const Candidate& c) {
+  std::vector<std::string> parts;
+  for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
+    parts.push_back(absl::StrFormat("%s=%.17g", c.genes[i].name(), c.values[i]));
+  return absl::StrJoin(parts, ",");
+}
+
+// Mean error of calibration-eval over files with the candidate's fit; NAN on failure.
+double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
+                    const v1::DiagnosisSpec& d, const std::string& out_dir,
+                    const std::string& extra_set = "") {
+  std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
+                                   "--recordings", absl::StrJoin(files, ","), "--options",
+                                   "error=" + d.error()};
+  std::string set = SetArg(c);
+  if (!extra_set.empty()) set += (set.empty() ? "" : ",") + extra_set;
+  if (!set.empty()) argv.insert(argv.end(), {"--set", set});
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    argv.insert(argv.end(), {"--out-dir", out_dir});
+  }
+  std::string out;
+  if (RunCapture(argv, &out) != 0) return NAN;
+  double sum = 0;
+  int n = 0;
+  for (size_t at = out.find("\"error\": "); at != std::string::npos;
+       at = out.find("\"error\": ", at + 1)) {
+    sum += std::strtod(out.c_str() + at + 9, nullptr);
+    ++n;
+  }
+  if (!out_dir.empty()) std::ofstream(out_dir + "/eval.json") << out;
+  return n ? sum / n : NAN;
+}
+
+std::string Num(double x) { return std::isfinite(x) ? absl::StrFormat("%.6g", x) : "null"; }
+
+std::string Quote(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    if (ch == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += ch;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+                int threads, const std::string& out_root) {
+  if (args.size() != 1) {
+    std::cerr << "gaitforge: usage: gaitforge diagnose SPEC.yaml [--workers N] [--json]\n";
+    return kUsage;
+  }
+  std::ifstream in(args[0]);
+  if (!in) {
+    std::cerr << "gaitforge: cannot open diagnosis spec '" << args[0] << "'\n";
+    return kNotFound;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  v1::DiagnosisSpec d;
+  if (auto s = spec::ParseMessage(text.str(), args[0], &d, nullptr); !s.ok()) {
+    std::cerr << "gaitforge: " << s.message() << "\n";
+    return kUsage;
+  }
+  Defaults(&d);
+  if (auto s = Validate(d); !s.ok()) {
+    std::cerr << "gaitforge: " << args[0] << ": " << s.message() << "\n";
+    return kUsage;
+  }
+  std::string error;
+  auto conn = Connection::Open(g, true, &error);
+  if (!conn) {
+    std::cerr << "gaitforge: " << error << "\n";
+    return kUnavailable;
+  }
+  std::vector<pid_t> pids;
+  if (g.coordinator.empty()) pids = StartLocalWorkers(g, conn->target(), workers, threads);
+  struct Stopper {
+    std::vector<pid_t>& p;
+    ~Stopper() { for (pid_t x : p) Stop(x, 10); }
+  } stopper{pids};
+
+  // Recordings: upload the files, keep the hashes; local copies for evaluation.
+  v1::StudySpec carrier;
+  for (const auto& r : d.training()) carrier.mutable_objective()->add_recordings(r);
+  for (const auto& r : d.held_out()) carrier.mutable_objective()->add_held_out(r);
+  if (int c = UploadSpecRecordings(*conn, args[0], &carrier, g); c) return c;
+  const std::vector<std::string> train(carrier.objective().recordings().begin(),
+                                       carrier.objective().recordings().end());
+  const std::vector<std::string> held(carrier.objective().held_out().begin(),
+                                      carrier.objective().held_out().end());
+  const std::string dir = out_root + "/" + d.name() + "-diagnosis";
+  std::error_code ec;
+  std::filesystem::create_directories(dir + "/recordings", ec);
+  std::vector<std::string> train_files, held_files;
+  int64_t n = 0;  // compared samples, for the BIC: period bins x channels per recording
+  for (const auto& h : train) {
+    const std::string f = DownloadRecording(*conn, h, dir + "/recordings", g);
+    if (f.empty()) return kFailed;
+    train_files.push_back(f);
+    std::ifstream a(f), b(f + ".json");
+    std::stringstream sa, sb;
+    sa << a.rdbuf();
+    sb << b.rdbuf();
+    auto rec = recording::ParseRecording(sa.str(), sb.str(), f, f + ".json");
+    if (!rec.ok()) {
+      std::cerr << "gaitforge: " << rec.status().message() << "\n";
+      return kUsage;
+    }
+    const double period = rec->meta.genes.size() == 13 ? rec->meta.genes[12] : 1.0;
+    const int64_t bins = d.error() == "pointwise"
+                             ? static_cast<int64_t>(rec->t.size())
+                             : std::max<int64_t>(1, std::llround(period / rec->dt));
+    n += bins * static_cast<int64_t>(rec->channels.size());
+  }
+  for (const auto& h : held) {
+    const std::string f = DownloadRecording(*conn, h, dir + "/recordings", g);
+    if (f.empty()) return kFailed;
+    held_files.push_back(f);
+  }
+  auto bic = [&](const Candidate& c) {
+    return static_cast<double>(n) * std::log(std::max(c.train * c.train, 1e-300)) +
+           c.k * std::log(static_cast<double>(n));
+  };
+
+  // 1. Baseline.
+  Candidate base = Make(d, {});
+  if (int c = RunStudies(*conn, d, {&base}, d.full_evaluations(), train, held, g, "baseline"); c)
+    return c;
+  if (!base.ok) {
+    std::cerr << "gaitforge: the baseline fit failed: " << base.reason << "\n";
+    return kFailed;
+  }
+  base.bic = bic(base);
+  base.held = HeldOutError(base, held_files, d, "");
+  // The noise floor: the baseline under numerically irrelevant changes (timestep, contact
+  // softness) already moves the held-out error this much on a hopping robot
+  // (../shared/robots/caterpillar.md); a discovery must beat the best of them.
+  double floor_held = base.held;
+  for (const char* change :
+       {"simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
+        "simulation.timestep_s=0.00125", "ground.contact_cfm=3e-6", "ground.contact_cfm=3e-5"}) {
+    const double e = HeldOutError(base, held_files, d, "", change);
+    if (std::isfinite(e)) floor_held = std::min(floor_held, e);
+  }
+
+  // 2. Locate, on the baseline's residuals.
+  std::string located = "{}";
+  {
+    (void)HeldOutError(base, train_files, d, dir + "/baseline-train");
+    std::vector<std::string> argv = {
+        "/usr/bin/python3",
+        std::filesystem::path(PlotScriptPath()).parent_path().string() + "/gaitforge_locate.py",
+        "--eval", dir + "/baseline-train/eval.json", "--out", dir + "/located.json", "--figure",
+        dir + "/located.svg"};
+    std::string ignored;
+    if (RunCapture(argv, &ignored) == 0) {
+      std::ifstream lf(dir + "/located.json");
+      std::stringstream ls;
+      ls << lf.rdbuf();
+      if (!ls.str().empty()) located = ls.str();
+    }
+  }
+
+  // 3. Screening: every candidate effect, a short fit each, all at once.
+  std::vector<Candidate> screened;
+  for (const auto& id : d.candidates()) screened.push_back(Make(d, {id}));
+  std::vector<Candidate*> ptrs;
+  for (auto& c : screened) ptrs.push_back(&c);
+  if (int c = RunStudies(*conn, d, ptrs, d.screening_evaluations(), train, held, g, "screening"); c)
+    return c;
+  std::sort(screened.begin(), screened.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.ok != b.ok) return a.ok;
+    return a.train < b.train;
+  });
+
+  // 4. Full fits of the leaders, then pairs of them.
+  std::vector<Candidate> full;
+  for (int i = 0; i < d.top() && i < static_cast<int>(screened.size()); ++i)
+    if (screened[i].ok) full.push_back(Make(d, screened[i].effects));
+  const size_t singles = full.size();
+  if (d.try_pairs())
+    for (size_t i = 0; i < singles && i < 2; ++i)
+      for (size_t j = i + 1; j < singles && j < 3; ++j)
+        full.push_back(Make(d, {full[i].effects[0], full[j].effects[0]}));
+  ptrs.clear();
+  for (auto& c : full) ptrs.push_back(&c);
+  if (int c = RunStudies(*conn, d, ptrs, d.full_evaluations(), train, held, g, "refitting"); c)
+    return c;
+  for (auto& c : full) {
+    if (!c.ok) continue;
+    c.bic = bic(c);
+    c.held = HeldOutError(c, held_files, d, "");
+  }
+  std::sort(full.begin(), full.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.ok != b.ok) return a.ok;
+    return a.bic < b.bic;
+  });
+
+  // 5. Decide.
+  auto passes = [&](const Candidate& c) {
+    return c.ok && c.bic - base.bic < -d.margin() && std::isfinite(c.held) &&
+           c.held < (1 - kHeldOutGain) * floor_held;
+  };
+  // Singles first, so that a pair is judged against its members: the simpler explanation
+  // stands unless the pair beats it by the BIC margin AND on held-out data (5% or more).
+  std::vector<const Candidate*> order;
+  for (const auto& c : full) order.push_back(&c);
+  std::stable_sort(order.begin(), order.end(), [](const Candidate* a, const Candidate* b) {
+    return a->effects.size() < b->effects.size();
+  });
+  std::vector<const Candidate*> winners;
+  for (const Candidate* c : order) {
+    if (!passes(*c)) continue;
+    bool dominated = false;
+    for (const auto* w : winners) {
+      const bool contains = std::all_of(w->effects.begin(), w->effects.end(), [&](const auto& e) {
+        return std::find(c->effects.begin(), c->effects.end(), e) != c->effects.end();
+      });
+      if (contains && (c->bic > w->bic - d.margin() || c->held > 0.95 * w->held)) dominated = true;
+    }
+    if (!dominated) winners.push_back(c);
+  }
+  std::stable_sort(winners.begin(), winners.end(),
+                   [](const Candidate* a, const Candidate* b) { return a->bic < b->bic; });
+  // A pair that survives replaces its members as the explanation.
+  if (!winners.empty() && winners[0]->effects.size() == 1) {
+    for (size_t i = 1; i < winners.size(); ++i) {
+      if (winners[i]->effects.size() > 1 &&
+          std::find(winners[i]->effects.begin(), winners[i]->effects.end(),
+                    winners[0]->effects[0]) != winners[i]->effects.end()) {
+        std::swap(winners[0], winners[i]);
+        break;
+      }
+    }
+  }
+  std::string verdict = "none";
+  std::vector<const Candidate*> named;
+  if (!winners.empty()) {
+    named.push_back(winners[0]);
+    for (size_t i = 1; i < winners.size(); ++i)
+      if (winners[i]->bic < winners[0]->bic + d.margin() && winners[i]->effects.size() == 1 &&
+          winners[0]->effects.size() == 1)
+        named.push_back(winners[i]);
+    verdict = named.size() > 1 ? "ambiguous" : "found";
+  }
+
+  // 6. The corrected model: a caterpillar.distance option ready for new gait studies.
+  std::string corrected;
+  if (!named.empty()) {
+    std::vector<std::string> set;
+    const Candidate& w = *named[0];
+    for (size_t i = 0; i < w.genes.size(); ++i)
+      if (w.genes[i].name().rfind("nuisance.", 0) != 0)
+        set.push_back(absl::StrFormat("%s=%.9g", w.genes[i].name(), w.values[i]));
+    corrected = dir + "/corrected-model.yaml";
+    std::ofstream(corrected)
+        << "# The caterpillar model with the effect the gap finder found (" << w.label
+        << "),\n# ready for new gait studies: use this objective section in a study spec.\n"
+        << "objective:\n  name: caterpillar.distance\n  options:\n    set: \""
+        << absl::StrJoin(set, ",") << "\"\n";
+  }
+
+  // Report: JSON and words.
+  auto effect_json = [&](const Candidate& c) {
+    std::string j = absl::StrCat("{\"id\": ", Quote(c.label), ", \"params\": {");
+    for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
+      absl::StrAppend(&j, i ? ", " : "", Quote(c.genes[i].name()), ": {\"value\": ",
+                      Num(c.values[i]), ", \"sd\": ", i < c.spread.size() ? Num(c.spread[i]) : "null",
+                      "}");
+    absl::StrAppend(&j, "}, \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
+                    ", \"delta_bic\": ", Num(c.bic - base.bic), "}");
+    return j;
+  };
+  std::string json = absl::StrCat("{\"name\": ", Quote(d.name()), ", \"verdict\": ", Quote(verdict),
+                                  ", \"effects\": [");
+  for (size_t i = 0; i < named.size(); ++i) absl::StrAppend(&json, i ? ", " : "", effect_json(*named[i]));
+  absl::StrAppend(&json, "], \"errors\": {\"baseline_train\": ", Num(base.train),
+                  ", \"baseline_held_out\": ", Num(base.held), ", \"noise_floor_held_out\": ",
+                  Num(floor_held));
+  if (!named.empty())
+    absl::StrAppend(&json, ", \"train\": ", Num(named[0]->train), ", \"held_out\": ",
+                    Num(named[0]->held));
+  absl::StrAppend(&json, "}, \"runners_up\": [");
+  int k = 0;
+  for (const auto& c : full) {
+    if (!named.empty() && &c == named[0]) continue;
+    absl::StrAppend(&json, k++ ? ", " : "", effect_json(c));
+  }
+  absl::StrAppend(&json, "], \"screening\": [");
+  k = 0;
+  for (const auto& c : screened)
+    absl::StrAppend(&json, k++ ? ", " : "", "{\"id\": ", Quote(c.label), ", \"train\": ",
+                    Num(c.train), "}");
+  std::string experiment;
+  if (verdict == "ambiguous")
+    for (const auto* c : named)
+      if (const auto* e = effects::FindEffect(c->effects[0])) experiment += e->experiment + " ";
+  absl::StrAppend(&json, "], \"located\": ", located, ", \"experiment\": ", Quote(experiment),
+                  ", \"corrected_model\": ", Quote(corrected), ", \"compared_samples\": ", n,
+                  "}\n");
+  std::ofstream(dir + "/diagnosis.json") << json;
+  if (g.json) {
+    std::cout << json;
+  } else {
+    std::cout << "diagnosis " << d.name() << ": ";
+    if (verdict == "none") {
+      std::cout << "no missing physics found: no candidate beat the baseline by the BIC margin ("
+                << d.margin() << ") and cut the held-out error " << static_cast<int>(kHeldOutGain * 100)
+                << "% below the noise floor ("
+                << absl::StrFormat("%.3g mm: the best held-out error of the baseline under "
+                                   "numerically irrelevant changes", 1000 * floor_held)
+                << ")\n";
+    } else {
+      std::cout << (verdict == "found" ? "found " : "ambiguous between ");
+      for (size_t i = 0; i < named.size(); ++i) std::cout << (i ? " and " : "") << named[i]->label;
+      std::cout << "\n";
+      for (const auto* c : named) {
+        const auto* e = effects::FindEffect(c->effects[0]);
+        if (e) std::cout << "  " << e->name << ": " << e->meaning << "\n";
+        for (size_t i = 0; i < c->genes.size() && i < c->values.size(); ++i)
+          std::cout << absl::StrFormat("    %-34s %12.5g  +- %s\n", c->genes[i].name(), c->values[i],
+                                       i < c->spread.size() ? absl::StrFormat("%.3g", c->spread[i])
+                                                            : std::string("n/a"));
+      }
+      std::cout << absl::StrFormat(
+          "  held-out error %.4g -> %.4g mm, training %.4g -> %.4g mm, delta BIC %.1f\n",
+          1000 * base.held, 1000 * named[0]->held, 1000 * base.train, 1000 * named[0]->train,
+          named[0]->bic - base.bic);
+      if (!experiment.empty()) std::cout << "  to tell them apart: " << experiment << "\n";
+      std::cout << "  corrected model: " << corrected << "\n";
+    }
+    std::cout << "  where the mismatch lives: see " << dir << "/located.json and located.svg\n";
+    std::cout << "  runners-up:";
+    for (const auto& c : full)
+      if (named.empty() || &c != named[0])
+        std::cout << absl::StrFormat(" %s (dBIC %.1f, held-out %.3g mm)", c.label, c.bic - base.bic,
+                                     1000 * c.held);
+    std::cout << "\n  report: " << dir << "/diagnosis.json\n";
+  }
+  return kOk;
+}
+
+}  // namespace gaitforge::cli

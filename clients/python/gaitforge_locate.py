@@ -1,0 +1,494 @@
+#!/usr/bin/python3
+"""Where does the model miss the recordings? Slices of the residual (recorded - simulated
+markers) of a `gaitforge-sim calibration-eval` run, for the gap finder (issue 8).
+
+Input: the JSON of
+    gaitforge-sim calibration-eval --recordings A.csv,B.csv [--set FIT] --out-dir DIR
+({"recordings": [{"file", "time_offset_s", "valid", "metrics": {"time_shift_s_0", ...},
+"sim": "DIR/sim-i.csv"}]}). Each valid recording is compared with its simulated markers:
+
+  alignment   the simulation is read at simulated time ts = t + time_offset_s +
+              time_shift_s_0 (linear interpolation), as the calibration error pairs them;
+              samples before the 2 settle cycles (ts < 2 T) or outside the simulation are left
+              out; each channel's constant offset (its mean residual) is removed.
+  noise_m     the sensor noise floor: the robust sd (1.4826 x median absolute deviation) of
+              the residual's differences between consecutive samples (steps of one interval;
+              dropped rows skipped), / sqrt 2, the median over the x and z channels. The
+              plain sd of the differences is `noise_sd_diff_m` (larger: it also holds the
+              model's fast mismatches, e.g. hop timing).
+  slices      per recording (T = gene 13, the gait period; cycles = span / T):
+    axis      RMS of the residual per axis over the 6 markers, and its excess over the noise
+              sqrt(max(0, rms^2 - noise^2)); y is checked to be 0 in both.
+    trend     each channel's least-squares slope over time, m/s and m per cycle; the mean
+              over the 6 x (z) channels; the drift over the recording (slope x span); the x
+              slope of the first and of the second half (a deficit growing along the run).
+    travel    distance per cycle of the recorded and the simulated centroid (mean of m*.x;
+              slopes x T) and the fraction of the simulated travel missing,
+              1 - recorded / simulated; the regression of the centroid's x residual on the
+              recorded centroid displacement (slope, r^2) and on the simulated one (its
+              slope is minus the missing fraction when the deficit follows the travel).
+    phase     10 bins of the gait phase (ts mod T) / T: RMS of the detrended residual (each
+              channel's trend removed) per bin, x and z, over the 6 markers.
+    contact   a marker is on the ground when its recorded z is within 1.5 mm of its minimum
+              (the 1st percentile, robust to the noise), airborne otherwise: the share of
+              samples, the RMS of the detrended x and z residual, and the x drift that
+              accrues in each state (sum of the x residual's steps, m per cycle).
+    velocity  the sign of the recorded x velocity of each marker (central difference):
+              (central difference over +-2 samples): forward (v > 0) or backward (v <= 0);
+              the same numbers as contact for each.
+  findings    sentences for the effects larger than 3 x noise_m (drifts over the whole
+              recording, RMS excesses, phase peaks, and where the drift accrues); a summary.
+
+Output: --out FILE.json {"noise_m", "noise_sd_diff_m", "slices": {"recordings": [...],
+"pooled": {...}}, "findings": [...], "summary": "..."}; --figure FILE.svg: per recording the
+x and z residuals against time (one panel each) and their RMS by gait phase.
+
+Usage:
+    gaitforge_locate.py --eval EVAL.json --out LOCATE.json [--figure LOCATE.svg]
+Run under /usr/bin/python3 (numpy, matplotlib).
+"""
+import argparse
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+MARKERS = [f"m{i}" for i in range(1, 7)]
+SETTLE_CYCLES = 2
+PHASE_BINS = 10
+CONTACT_BAND_M = 1.5e-3
+SIGNIFICANT = 3.0  # findings need an effect larger than this many noise_m
+STATE_TEXT = {"ground": "on the ground", "airborne": "airborne", "forward": "moving forward",
+              "backward": "moving backward or still"}
+
+
+def read_csv(path):
+    with open(path) as f:
+        header = [h.strip() for h in f.readline().lstrip("\ufeff").strip().split(",")]
+        rows = [line.strip().split(",") for line in f if line.strip()]
+    data = np.array([[float(c) for c in row] for row in rows], dtype=float)
+    return {h: data[:, i] for i, h in enumerate(header)}
+
+
+def resolve(path, base):
+    if os.path.isabs(path) or os.path.exists(path):
+        return path
+    alt = os.path.join(base, path)
+    return alt if os.path.exists(alt) else path
+
+
+def robust_sd(v):
+    v = np.asarray(v, dtype=float)
+    if v.size < 2:
+        return float("nan")
+    return float(1.4826 * np.median(np.abs(v - np.median(v))))
+
+
+def slope(t, y):
+    """Least-squares slope of y over t."""
+    tc = t - t.mean()
+    den = float(np.dot(tc, tc))
+    return float(np.dot(tc, y - y.mean()) / den) if den > 0 else float("nan")
+
+
+def regress(x, y):
+    """Slope and r^2 of y on x."""
+    xc, yc = x - x.mean(), y - y.mean()
+    sxx, syy = float(np.dot(xc, xc)), float(np.dot(yc, yc))
+    if sxx <= 0:
+        return float("nan"), float("nan")
+    b = float(np.dot(xc, yc) / sxx)
+    r2 = float(np.dot(xc, yc) ** 2 / (sxx * syy)) if syy > 0 else float("nan")
+    return b, r2
+
+
+def velocity(t, x):
+    """dx/dt by a central difference over +-2 samples (one-sided at the ends): the sign of
+    the motion with the noise of 4 intervals rather than 2."""
+    n = len(x)
+    lo = np.clip(np.arange(n) - 2, 0, n - 1)
+    hi = np.clip(np.arange(n) + 2, 0, n - 1)
+    return (x[hi] - x[lo]) / (t[hi] - t[lo])
+
+
+def rms(v):
+    v = np.asarray(v, dtype=float)
+    return float(np.sqrt(np.mean(v * v))) if v.size else float("nan")
+
+
+def excess(r, noise):
+    return float(math.sqrt(max(0.0, r * r - noise * noise))) if np.isfinite(r) else float("nan")
+
+
+def clean(obj):
+    """NaN/inf -> None, numpy -> float, for strict JSON."""
+    if isinstance(obj, dict):
+        return {k: clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [clean(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if np.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def mm(v):
+    return f"{1000 * v:.1f} mm" if abs(v) >= 0.00995 else f"{1000 * v:.2f} mm"
+
+
+class Recording:
+    """One recording aligned with its simulation: residuals and their slices."""
+
+    def __init__(self, entry, base):
+        self.file = resolve(entry["file"], base)
+        self.name = os.path.basename(self.file)
+        sim_path = resolve(entry["sim"], base)
+        with open(self.file + ".json") as f:
+            self.genes = json.load(f)["command"]["genes"]
+        self.period = float(self.genes[12])
+        self.shift = float(entry.get("time_offset_s", 0.0)) + \
+            float(entry.get("metrics", {}).get("time_shift_s_0", 0.0))
+        rec, sim = read_csv(self.file), read_csv(sim_path)
+        t = rec["t"]
+        ts = t + self.shift
+        keep = ((ts >= SETTLE_CYCLES * self.period - 1e-9) & (ts >= sim["t"][0])
+                & (ts <= sim["t"][-1]))
+        if keep.sum() < 10:
+            raise ValueError(f"{self.name}: fewer than 10 samples overlap the simulation after "
+                             f"{SETTLE_CYCLES} settle cycles")
+        self.t, self.ts = t[keep], ts[keep]
+        steps = np.diff(t)
+        self.dt = float(np.median(steps))
+        self.consecutive = np.abs(np.diff(self.t) - self.dt) < 0.05 * self.dt
+        self.rec, self.sim, self.res, self.y_max = {}, {}, {}, 0.0
+        for m in MARKERS:
+            for axis in ("x", "z"):
+                ch = f"{m}.{axis}"
+                if ch not in rec or ch not in sim:
+                    continue
+                r = rec[ch][keep]
+                s = np.interp(self.ts, sim["t"], sim[ch])
+                d = r - s
+                self.rec[ch], self.sim[ch], self.res[ch] = r, s, d - d.mean()
+            for src in (rec, sim):
+                if f"{m}.y" in src:
+                    self.y_max = max(self.y_max, float(np.max(np.abs(src[f"{m}.y"]))))
+        self.xs = [c for c in self.res if c.endswith(".x")]
+        self.zs = [c for c in self.res if c.endswith(".z")]
+        self.span = float(self.ts[-1] - self.ts[0])
+        self.cycles = self.span / self.period
+        self.trend = {c: slope(self.ts, self.res[c]) for c in self.res}
+        self.detrended = {c: self.res[c] - self.trend[c] * (self.ts - self.ts.mean())
+                          for c in self.res}
+
+    def noise(self):
+        per = {}
+        for c, r in self.res.items():
+            d = np.diff(r)[self.consecutive]
+            per[c] = (robust_sd(d) / math.sqrt(2), float(np.std(d, ddof=1)) / math.sqrt(2))
+        return per
+
+    def slices(self, noise):
+        T, ts = self.period, self.ts
+        out = {"file": self.file, "period_s": T, "time_shift_s": self.shift,
+               "samples": int(len(ts)), "cycles": self.cycles}
+        # axis
+        axis = {}
+        for name, chans in (("x", self.xs), ("z", self.zs)):
+            r = rms(np.concatenate([self.res[c] for c in chans])) if chans else float("nan")
+            rd = rms(np.concatenate([self.detrended[c] for c in chans])) if chans else float("nan")
+            axis[name] = {"rms_m": r, "rms_excess_m": excess(r, noise),
+                          "detrended_rms_m": rd, "detrended_rms_excess_m": excess(rd, noise),
+                          "per_marker_rms_m": {c.split(".")[0]: rms(self.res[c]) for c in chans},
+                          "per_marker_detrended_rms_m": {c.split(".")[0]: rms(self.detrended[c])
+                                                         for c in chans}}
+        axis["y"] = {"max_abs_m": self.y_max}
+        out["axis"] = axis
+        # trend
+        tr = {}
+        half = ts < ts[0] + self.span / 2
+        for name, chans in (("x", self.xs), ("z", self.zs)):
+            per = {c.split(".")[0]: {"m_per_s": self.trend[c], "m_per_cycle": self.trend[c] * T,
+                                     "drift_m": self.trend[c] * self.span} for c in chans}
+            mean = float(np.mean([self.trend[c] for c in chans])) if chans else float("nan")
+            tr[name] = {"mean_m_per_s": mean, "mean_m_per_cycle": mean * T,
+                        "mean_drift_m": mean * self.span, "per_marker": per}
+        if self.xs:
+            cx = np.mean([self.res[c] for c in self.xs], axis=0)
+            tr["x"]["first_half_m_per_cycle"] = slope(ts[half], cx[half]) * T
+            tr["x"]["second_half_m_per_cycle"] = slope(ts[~half], cx[~half]) * T
+        out["trend"] = tr
+        # travel
+        if self.xs:
+            rc = np.mean([self.rec[c] for c in self.xs], axis=0)
+            sc = np.mean([self.sim[c] for c in self.xs], axis=0)
+            cres = np.mean([self.res[c] for c in self.xs], axis=0)
+            d_rec, d_sim = slope(ts, rc) * T, slope(ts, sc) * T
+            b_rec, r2_rec = regress(rc - rc[0], cres)
+            b_sim, r2_sim = regress(sc - sc[0], cres)
+            out["travel"] = {
+                "recorded_m_per_cycle": d_rec, "simulated_m_per_cycle": d_sim,
+                "fraction_missing": 1 - d_rec / d_sim if abs(d_sim) > 1e-4 else float("nan"),
+                "residual_vs_recorded_displacement": {"slope": b_rec, "r2": r2_rec},
+                "residual_vs_simulated_displacement": {"slope": b_sim, "r2": r2_sim},
+            }
+        # phase
+        phase = np.mod(ts, T) / T
+        bins = np.minimum((phase * PHASE_BINS).astype(int), PHASE_BINS - 1)
+        ph = {"bin_edges": [i / PHASE_BINS for i in range(PHASE_BINS + 1)]}
+        for name, chans in (("x", self.xs), ("z", self.zs)):
+            vals = []
+            for k in range(PHASE_BINS):
+                sel = bins == k
+                vals.append(rms(np.concatenate([self.detrended[c][sel] for c in chans]))
+                            if chans and sel.any() else float("nan"))
+            ph[f"{name}_rms_m"] = vals
+        out["phase"] = ph
+        # contact and velocity: where the x drift accrues
+        contact = {s: {"share": [], "x": [], "z": [], "drift": []} for s in ("ground", "airborne")}
+        vel = {s: {"share": [], "x": [], "drift": []} for s in ("forward", "backward")}
+        for m in MARKERS:
+            cx, cz = f"{m}.x", f"{m}.z"
+            if cx not in self.res or cz not in self.res:
+                continue
+            z = self.rec[cz]
+            ground = z <= np.percentile(z, 1) + CONTACT_BAND_M
+            dres = np.concatenate([np.diff(self.res[cx]), [0.0]])
+            # a step counts for the state at its start; steps across dropped rows still count
+            # (the drift must add up), their state is that of the sample before the gap
+            for state, sel in (("ground", ground), ("airborne", ~ground)):
+                c = contact[state]
+                c["share"].append(sel.mean())
+                c["x"].append(self.detrended[cx][sel])
+                c["z"].append(self.detrended[cz][sel])
+                c["drift"].append(dres[sel].sum())
+            v = velocity(self.t, self.rec[cx])
+            for state, sel in (("forward", v > 0), ("backward", v <= 0)):
+                c = vel[state]
+                c["share"].append(sel.mean())
+                c["x"].append(self.detrended[cx][sel])
+                c["drift"].append(dres[sel].sum())
+        out["contact"] = {
+            "band_m": CONTACT_BAND_M,
+            **{s: {"share": float(np.mean(c["share"])),
+                   "x_rms_m": rms(np.concatenate(c["x"])), "z_rms_m": rms(np.concatenate(c["z"])),
+                   "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
+               for s, c in contact.items()}}
+        out["velocity"] = {
+            **{s: {"share": float(np.mean(c["share"])), "x_rms_m": rms(np.concatenate(c["x"])),
+                   "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
+               for s, c in vel.items()}}
+        return out
+
+
+def travel_text(tv):
+    """Recorded against simulated travel, and the missing share when the model moves forward."""
+    if not tv:
+        return "no x channels"
+    rec, sim, frac = tv["recorded_m_per_cycle"], tv["simulated_m_per_cycle"], tv["fraction_missing"]
+    text = f"recorded {mm(rec)} per cycle against simulated {mm(sim)}"
+    if sim > 1e-4 and np.isfinite(frac):
+        if frac > 0:
+            text = f"{100 * frac:.0f}% of the simulated travel is missing: " + text
+            if rec < 0:
+                text += ", the recording goes backwards"
+        else:
+            text = f"the recording travels {100 * -frac:.0f}% further than simulated: " + text
+    elif sim < -1e-4:
+        text += " (a backward gait)"
+    return text
+
+
+def findings_for(s, noise):
+    """Sentences for the effects of one recording's slices above SIGNIFICANT x noise, and the
+    size (in noise units) of the largest, for the summary."""
+    lim = SIGNIFICANT * noise
+    name = os.path.basename(s["file"])
+    out, score = [], {}
+    ax, tr = s["axis"], s["trend"]
+    z_ex = ax["z"]["rms_excess_m"]
+    z_text = (f"vertical motion matches within noise ({mm(z_ex)} RMS beyond the noise)"
+              if z_ex <= lim else f"vertical motion differs too ({mm(ax['z']['rms_m'])} RMS)")
+    drift = tr["x"]["mean_drift_m"]
+    if abs(drift) > lim:
+        per = tr["x"]["per_marker"]
+        n_same = sum(1 for p in per.values() if abs(p["drift_m"]) > lim
+                     and np.sign(p["drift_m"]) == np.sign(drift))
+        verb = "falls" if drift < 0 else "rises"
+        tv = s.get("travel", {})
+        what = travel_text(tv)
+        who = f"all {len(per)}" if n_same == len(per) else f"{n_same} of {len(per)}"
+        out.append(f"{name}: forward drift: the x residual of {who} markers "
+                   f"{verb} by {mm(abs(tr['x']['mean_m_per_cycle']))} per cycle "
+                   f"({mm(abs(drift))} over {s['cycles']:.1f} cycles; {what}), while {z_text}")
+        score["drift"] = abs(drift) / noise
+        a, b = tr["x"].get("first_half_m_per_cycle"), tr["x"].get("second_half_m_per_cycle")
+        if a is not None and abs(b - a) * s["cycles"] / 2 > lim:
+            out.append(f"{name}: the x drift changes along the run: {mm(a)} per cycle in the "
+                       f"first half, {mm(b)} per cycle in the second")
+            score["growth"] = abs(b - a) * s["cycles"] / 2 / noise
+        for key, label in (("contact", ("ground", "airborne")),
+                           ("velocity", ("forward", "backward"))):
+            parts = [(st, s[key][st]["x_drift_m_per_cycle"], s[key][st]["share"]) for st in label]
+            big = [p for p in parts if abs(p[1]) * s["cycles"] > lim]
+            if big:
+                desc = ", ".join(f"{mm(d)} per cycle while {STATE_TEXT[st]} ({100 * sh:.0f}% of "
+                                 f"the samples)" for st, d, sh in parts)
+                out.append(f"{name}: the x drift accrues {desc}")
+    for axis, label in (("x", "horizontal"), ("z", "vertical")):
+        e = ax[axis]["detrended_rms_excess_m"]
+        if e > lim:
+            ph = s["phase"][f"{axis}_rms_m"]
+            k = int(np.nanargmax(ph))
+            med = float(np.nanmedian(ph))
+            where = ""
+            if ph[k] > 1.5 * med and excess(ph[k], noise) > lim:
+                where = (f", largest at gait phase {k / PHASE_BINS:.1f}-{(k + 1) / PHASE_BINS:.1f} "
+                         f"({mm(ph[k])} RMS against a median of {mm(med)})")
+            worst = max(ax[axis]["per_marker_detrended_rms_m"].items(), key=lambda kv: kv[1])
+            c = s["contact"]
+            where += (f"; {mm(c['ground'][axis + '_rms_m'])} RMS on the ground, "
+                      f"{mm(c['airborne'][axis + '_rms_m'])} airborne")
+            out.append(f"{name}: {label} shape: the {axis} residual beyond any drift is "
+                       f"{mm(ax[axis]['detrended_rms_m'])} RMS (most at {worst[0]}, "
+                       f"{mm(worst[1])}){where}")
+            score[f"{axis}_shape"] = e / noise
+    return out, score
+
+
+def summary_of(slices, scores, noise):
+    if not any(scores):
+        return f"No systematic mismatch beyond noise (noise floor {mm(noise)})."
+    n = len(slices)
+    drifted = [s for s, sc in zip(slices, scores) if "drift" in sc]
+    parts = []
+    if drifted:
+        per = ", ".join(f"{mm(s['trend']['x']['mean_m_per_cycle'])}" for s in drifted)
+        fr = [s["travel"]["fraction_missing"] for s in drifted if s.get("travel")
+              and s["travel"]["simulated_m_per_cycle"] > 1e-4
+              and np.isfinite(s["travel"]["fraction_missing"])]
+        fr_text = ", ".join(f"{100 * f:.0f}%" for f in fr)
+        parts.append(f"in {len(drifted)} of {n} recordings the x residual drifts ({per} per "
+                     f"cycle" + (f"; of the forward gaits' simulated travel {fr_text} is missing"
+                                 if fr_text else "") + ")")
+    for axis, label in (("z_shape", "the vertical motion"), ("x_shape", "the horizontal shape")):
+        k = [s for s, sc in zip(slices, scores) if axis in sc]
+        if k:
+            worst = max(s["axis"][axis[0]]["detrended_rms_m"] for s in k)
+            parts.append(f"{label} differs in {len(k)} of {n} (up to {mm(worst)} RMS)")
+    flat = [s for s, sc in zip(slices, scores) if "z_shape" not in sc]
+    if drifted and len(flat) == n:
+        parts.append("the vertical motion matches within noise in all")
+    lead = max(("drift", "x_shape", "z_shape"),
+               key=lambda k: sum(sc.get(k, 0) for sc in scores))
+    what = {"drift": "forward travel", "x_shape": "the horizontal shape of the stroke",
+            "z_shape": "the vertical motion"}[lead]
+    return (f"The mismatch lives mainly in {what}: " + "; ".join(parts)
+            + f" (noise floor {mm(noise)}).")
+
+
+def figure(recs, slices, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = len(recs)
+    fig, axes = plt.subplots(n, 3, figsize=(13, 2.8 * n), squeeze=False)
+    colors = plt.cm.viridis(np.linspace(0, 0.9, 6))
+    for row, (rec, s) in enumerate(zip(recs, slices)):
+        for col, chans in enumerate((rec.xs, rec.zs)):
+            ax = axes[row, col]
+            for c in chans:
+                ax.plot(rec.ts, 1000 * rec.res[c], lw=0.8, color=colors[int(c[1]) - 1],
+                        label=c.split(".")[0])
+            ax.axhline(0, color="grey", lw=0.6)
+            ax.set_title(f"{rec.name}: {'x' if col == 0 else 'z'} residual (recorded - simulated)",
+                         fontsize=8)
+            ax.set_ylabel("mm", fontsize=8)
+            ax.set_xlabel("simulated time (s)", fontsize=8)
+            ax.tick_params(labelsize=7)
+        axes[row, 0].legend(fontsize=6, ncol=3)
+        ax = axes[row, 2]
+        centres = (np.arange(PHASE_BINS) + 0.5) / PHASE_BINS
+        w = 0.4 / PHASE_BINS
+        ax.bar(centres - w / 2, 1000 * np.array(s["phase"]["x_rms_m"], dtype=float), w, label="x")
+        ax.bar(centres + w / 2, 1000 * np.array(s["phase"]["z_rms_m"], dtype=float), w, label="z")
+        ax.set_xlim(0, 1)
+        ax.set_title(f"{rec.name}: RMS of the detrended residual by gait phase", fontsize=8)
+        ax.set_xlabel("phase (t mod T) / T", fontsize=8)
+        ax.set_ylabel("mm", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--eval", required=True, help="calibration-eval JSON (with --out-dir)")
+    ap.add_argument("--out", required=True, help="the slices and findings, JSON")
+    ap.add_argument("--figure", help="residuals against time and by phase, SVG")
+    args = ap.parse_args()
+    try:
+        with open(args.eval) as f:
+            ev = json.load(f)
+    except (OSError, ValueError) as e:
+        print(f"gaitforge_locate: cannot read {args.eval}: {e}", file=sys.stderr)
+        return 2
+    base = os.path.dirname(os.path.abspath(args.eval))
+    recs, skipped = [], []
+    for entry in ev.get("recordings", []):
+        if not entry.get("valid") or not entry.get("sim"):
+            skipped.append(f"{entry.get('file')}: {entry.get('reason') or 'no simulated markers'}")
+            continue
+        try:
+            recs.append(Recording(entry, base))
+        except (OSError, ValueError, KeyError) as e:
+            print(f"gaitforge_locate: {e}", file=sys.stderr)
+            return 2
+    if not recs:
+        print("gaitforge_locate: no valid recording with simulated markers (run calibration-eval "
+              "with --out-dir)" + "".join(f"\n  {s}" for s in skipped), file=sys.stderr)
+        return 2
+    per_channel = [v for r in recs for v in r.noise().values()]
+    noise = float(np.median([p[0] for p in per_channel]))
+    noise_plain = float(np.median([p[1] for p in per_channel]))
+    slices = [r.slices(noise) for r in recs]
+    findings, scores = [], []
+    for s in slices:
+        f, sc = findings_for(s, noise)
+        findings += f
+        scores.append(sc)
+    summary = summary_of(slices, scores, noise)
+    if not findings:
+        findings = [f"no systematic mismatch beyond noise ({mm(noise)}): every drift and RMS "
+                    f"excess is below {SIGNIFICANT:g} x the noise floor"]
+    pooled = {
+        "x_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.xs])),
+        "z_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.zs])),
+        "x_trend_m_per_cycle": [s["trend"]["x"]["mean_m_per_cycle"] for s in slices],
+        "fraction_missing": [s.get("travel", {}).get("fraction_missing") for s in slices],
+    }
+    out = {"eval": args.eval, "noise_m": noise, "noise_sd_diff_m": noise_plain,
+           "threshold_m": SIGNIFICANT * noise, "skipped": skipped,
+           "slices": {"recordings": slices, "pooled": pooled},
+           "findings": findings, "summary": summary}
+    with open(args.out, "w") as f:
+        json.dump(clean(out), f, indent=1)
+        f.write("\n")
+    if args.figure:
+        figure(recs, slices, args.figure)
+    try:
+        print(summary)
+        for line in findings:
+            print(f"  - {line}")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""The gap finder on the shipped concealed cases (tests/diagnosis/cases).
+
+Runs `gaitforge diagnose` on each case, and only afterwards opens the sealed answers
+(answers.sealed.json) to score: the verdict and effect named, the fitted magnitude against
+the concealed one, and the held-out error before and after.
+
+  /usr/bin/python3 tests/diagnosis/run_suite.py --bin-dir build/bin [--cases a,b] [--check]
+      [--json-out FILE] [--screening N] [--full N]
+
+--check: exit 1 unless every case gets the right verdict and effect (the ctest test);
+without it the script is the benchmark (confusion matrix, magnitude errors, times).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def diagnose(bin_dir, case, screening, full, workers):
+    case_dir = os.path.join(HERE, "cases", case)
+    with open(os.path.join(case_dir, "case.json")) as f:
+        c = json.load(f)
+    with tempfile.TemporaryDirectory(prefix=f"gf-diag-{case}-") as d:
+        # The spec names the files by absolute path; the case name stays out of it.
+        spec = os.path.join(d, "diagnosis.yaml")
+        with open(spec, "w") as f:
+            f.write("name: case\nseed: 1\nrobot: caterpillar\n")
+            f.write("training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]\n")
+            f.write("held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]\n")
+            f.write(f"screening_evaluations: {screening}\nfull_evaluations: {full}\n")
+        t0 = time.monotonic()
+        r = subprocess.run([os.path.join(bin_dir, "gaitforge"), "diagnose", spec, "--json",
+                            "--workers", str(workers)], cwd=d, capture_output=True, text=True)
+        wall = time.monotonic() - t0
+        if r.returncode != 0:
+            return {"case": case, "error": r.stderr[-2000:], "wall_seconds": wall}
+        out = json.loads(r.stdout)
+        out["case"] = case
+        out["wall_seconds"] = wall
+        return out
+
+
+def score(result, answer):
+    truth = answer["effect"]
+    if "error" in result:
+        return {"case": result["case"], "truth": truth, "predicted": "error", "correct": False}
+    verdict = result["verdict"]
+    named = [e["id"] for e in result.get("effects", [])]
+    if verdict == "none":
+        predicted = "none"
+    elif verdict == "ambiguous":
+        predicted = "ambiguous:" + "|".join(named)
+    else:
+        predicted = named[0]
+    correct = (truth == "none" and verdict == "none") or \
+              (truth != "none" and verdict == "found" and truth in named[0].split("+"))
+    s = {"case": result["case"], "truth": truth, "predicted": predicted, "correct": correct,
+         "wall_seconds": round(result["wall_seconds"], 1)}
+    errs = result.get("errors", {})
+    if "held_out" in errs and errs.get("baseline_held_out"):
+        s["held_out_reduction"] = 1 - errs["held_out"] / errs["baseline_held_out"]
+    if truth != "none" and verdict == "found":
+        fitted = result["effects"][0]["params"]
+        rel = []
+        for name, value in answer.get("params", {}).items():
+            if name in fitted and value:
+                rel.append(abs(fitted[name]["value"] - value) / abs(value))
+        if rel:
+            s["magnitude_relative_error"] = max(rel)
+    return s
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--bin-dir", required=True)
+    ap.add_argument("--cases", default="")
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--json-out", default="")
+    ap.add_argument("--screening", type=int, default=120)
+    ap.add_argument("--full", type=int, default=480)
+    ap.add_argument("--workers", type=int, default=2)
+    a = ap.parse_args()
+    cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(HERE, "cases")))
+    t0 = time.monotonic()
+    results = [diagnose(a.bin_dir, c, a.screening, a.full, a.workers) for c in cases]
+    # Only now: the answers.
+    with open(os.path.join(HERE, "answers.sealed.json")) as f:
+        answers = json.load(f)
+    scores = [score(r, answers[r["case"]]) for r in results]
+    total = time.monotonic() - t0
+    effects = [s for s in scores if s["truth"] != "none"]
+    nulls = [s for s in scores if s["truth"] == "none"]
+    top1 = sum(s["correct"] for s in effects) / len(effects) if effects else None
+    fdr = sum(not s["correct"] for s in nulls) / len(nulls) if nulls else None
+    mags = sorted(s["magnitude_relative_error"] for s in scores if "magnitude_relative_error" in s)
+    reds = sorted(s["held_out_reduction"] for s in effects if "held_out_reduction" in s)
+    summary = {"cases": scores, "top1_rate": top1, "false_discovery_rate": fdr,
+               "median_magnitude_relative_error": mags[len(mags) // 2] if mags else None,
+               "median_held_out_reduction": reds[len(reds) // 2] if reds else None,
+               "wall_seconds": round(total, 1)}
+    print(f"{'case':14s} {'truth':22s} {'predicted':34s} {'ok':3s} {'|mag err|':>9s} {'held-out':>9s} {'s':>6s}")
+    for s in scores:
+        mag = f"{100 * s['magnitude_relative_error']:.0f}%" if "magnitude_relative_error" in s else "-"
+        red = f"-{100 * s['held_out_reduction']:.0f}%" if "held_out_reduction" in s else "-"
+        print(f"{s['case']:14s} {s['truth']:22s} {s['predicted']:34s} {'yes' if s['correct'] else 'NO':3s} "
+              f"{mag:>9s} {red:>9s} {s.get('wall_seconds', 0):6.0f}")
+    print(f"top-1 correct-effect rate {top1}, false-discovery rate on nulls {fdr}, "
+          f"median magnitude error {summary['median_magnitude_relative_error']}, "
+          f"median held-out reduction {summary['median_held_out_reduction']}, {total:.0f} s")
+    for r in results:
+        if "error" in r:
+            print(f"{r['case']}: diagnose failed:\n{r['error']}", file=sys.stderr)
+    if a.json_out:
+        with open(a.json_out, "w") as f:
+            json.dump({"summary": summary, "results": results}, f, indent=1)
+    if a.check and not all(s["correct"] for s in scores):
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
