@@ -13,4 +13,20 @@ bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int mem
   return member_a < member_b;
 }
 
+void WriteEvaluation(core::ByteWriter& w, const Evaluation& e) {
+  w.U32(e.valid ? 1 : 0);
+  w.F64(e.fitness);
+  w.Str(e.reason);
+  w.F64(e.violation);
+}
+
+Evaluation ReadEvaluation(core::ByteReader& r) {
+  Evaluation e;
+  e.valid = r.U32() != 0;
+  e.fitness = r.F64();
+  e.reason = r.Str();
+  e.violation = r.F64();
+  return e;
+}
+
 }  // namespace gaitforge::engines

@@ -11,6 +11,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "services/core/byte_codec.h"
 
 namespace gaitforge::engines {
 
@@ -77,5 +78,9 @@ class Engine {
 // fitness first; among infeasible, smaller violation first; then lower member index.
 // Engines that need a scalar (roulette) treat infeasible members as weight 0.
 bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int member_b);
+
+// One evaluation in engine state (every engine's state uses this encoding).
+void WriteEvaluation(core::ByteWriter& w, const Evaluation& e);
+Evaluation ReadEvaluation(core::ByteReader& r);
 
 }  // namespace gaitforge::engines

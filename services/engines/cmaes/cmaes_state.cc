@@ -11,21 +11,6 @@ namespace {
 
 constexpr uint32_t kStateMagic = 0x31414d43;  // "CMA1"
 
-void WriteEval(core::ByteWriter& w, const Evaluation& e) {
-  w.U32(e.valid ? 1 : 0);
-  w.F64(e.fitness);
-  w.Str(e.reason);
-  w.F64(e.violation);
-}
-
-Evaluation ReadEval(core::ByteReader& r) {
-  Evaluation e;
-  e.valid = r.U32() != 0;
-  e.fitness = r.F64();
-  e.reason = r.Str();
-  e.violation = r.F64();
-  return e;
-}
 
 void WriteMat(core::ByteWriter& w, const Eigen::MatrixXd& m) {
   w.U32(static_cast<uint32_t>(m.rows()));
@@ -105,7 +90,7 @@ std::string CmaesEngine::SaveState() const {
     w.U32(h.generation);
     w.U32(h.member);
     w.F64s(h.genes);
-    WriteEval(w, h.eval);
+    WriteEvaluation(w, h.eval);
   }
   return w.data();
 }
@@ -168,7 +153,7 @@ absl::Status CmaesEngine::LoadState(std::string_view state) {
     h.generation = static_cast<int>(r.U32());
     h.member = static_cast<int>(r.U32());
     h.genes = r.F64s();
-    h.eval = ReadEval(r);
+    h.eval = ReadEvaluation(r);
     if (h.genes.size() != static_cast<size_t>(n_)) shapes = false;
   }
   if (auto s = r.status("CMA-ES state"); !s.ok()) return s;

@@ -142,21 +142,6 @@ void GaEngine::Breed(const std::vector<Evaluation>& evals, const std::vector<int
 namespace {
 constexpr uint32_t kStateMagic = 0x32414147;  // "GAA2": evaluations carry a violation
 
-void WriteEval(core::ByteWriter& w, const Evaluation& e) {
-  w.U32(e.valid ? 1 : 0);
-  w.F64(e.fitness);
-  w.Str(e.reason);
-  w.F64(e.violation);
-}
-
-Evaluation ReadEval(core::ByteReader& r) {
-  Evaluation e;
-  e.valid = r.U32() != 0;
-  e.fitness = r.F64();
-  e.reason = r.Str();
-  e.violation = r.F64();
-  return e;
-}
 }  // namespace
 
 std::string GaEngine::SaveState() const {
@@ -175,7 +160,7 @@ std::string GaEngine::SaveState() const {
     w.U32(c.member);
     w.F64s(c.genes);
     w.U32(c.known ? 1 : 0);
-    if (c.known) WriteEval(w, *c.known);
+    if (c.known) WriteEvaluation(w, *c.known);
     w.U32(c.origin_generation);
     w.U32(c.origin_member);
   }
@@ -184,7 +169,7 @@ std::string GaEngine::SaveState() const {
     w.U32(h.generation);
     w.U32(h.member);
     w.F64s(h.genes);
-    WriteEval(w, h.eval);
+    WriteEvaluation(w, h.eval);
   }
   return w.data();
 }
@@ -213,7 +198,7 @@ absl::Status GaEngine::LoadState(std::string_view state) {
   for (auto& cand : candidates) {
     cand.member = static_cast<int>(r.U32());
     cand.genes = r.F64s();
-    if (r.U32() != 0) cand.known = ReadEval(r);
+    if (r.U32() != 0) cand.known = ReadEvaluation(r);
     cand.origin_generation = static_cast<int>(r.U32());
     cand.origin_member = static_cast<int>(r.U32());
   }
@@ -225,7 +210,7 @@ absl::Status GaEngine::LoadState(std::string_view state) {
     h.generation = static_cast<int>(r.U32());
     h.member = static_cast<int>(r.U32());
     h.genes = r.F64s();
-    h.eval = ReadEval(r);
+    h.eval = ReadEvaluation(r);
   }
   if (auto s = r.status("GA state"); !s.ok()) return s;
   for (size_t m = 0; m < candidates.size(); ++m) {

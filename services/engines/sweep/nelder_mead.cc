@@ -11,21 +11,6 @@ namespace {
 
 constexpr double kReflect = 1.0, kExpand = 2.0, kContract = 0.5, kShrink = 0.5;
 
-void WriteEval(core::ByteWriter& w, const Evaluation& e) {
-  w.U32(e.valid ? 1 : 0);
-  w.F64(e.fitness);
-  w.Str(e.reason);
-  w.F64(e.violation);
-}
-
-Evaluation ReadEval(core::ByteReader& r) {
-  Evaluation e;
-  e.valid = r.U32() != 0;
-  e.fitness = r.F64();
-  e.reason = r.Str();
-  e.violation = r.F64();
-  return e;
-}
 
 }  // namespace
 
@@ -166,11 +151,11 @@ void NelderMead::Save(core::ByteWriter& w) const {
   w.U64(x_.size());
   for (size_t v = 0; v < x_.size(); ++v) {
     w.F64s(x_[v]);
-    WriteEval(w, f_[v]);
+    WriteEvaluation(w, f_[v]);
   }
   w.F64s(centroid_);
   w.F64s(xr_);
-  WriteEval(w, fr_);
+  WriteEvaluation(w, fr_);
   w.U32(iterations_);
   w.U64(pending_.size());
   for (const auto& p : pending_) w.F64s(p);
@@ -185,12 +170,12 @@ std::optional<NelderMead> NelderMead::Load(core::ByteReader& r, size_t n) {
   if (nv < 1 || nv > n + 1) return std::nullopt;
   for (uint64_t v = 0; v < nv; ++v) {
     s.x_.push_back(r.F64s());
-    s.f_.push_back(ReadEval(r));
+    s.f_.push_back(ReadEvaluation(r));
     if (s.x_.back().size() != n) return std::nullopt;
   }
   s.centroid_ = r.F64s();
   s.xr_ = r.F64s();
-  s.fr_ = ReadEval(r);
+  s.fr_ = ReadEvaluation(r);
   s.iterations_ = static_cast<int>(r.U32());
   const uint64_t np = r.U64();
   if (np > n) return std::nullopt;
