@@ -52,6 +52,9 @@ class Connection {
   std::unique_ptr<v1::StudyService::Stub> study_;
 };
 
+// Opens a connection or prints why not and sets *code (kNotFound: no local database yet;
+// kUnavailable otherwise).
+std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code);
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target);
 void SetDeadline(grpc::ClientContext& ctx, double seconds);
 // Prints the error and returns the matching exit code.

@@ -63,6 +63,16 @@ Connection::~Connection() {
   if (pid_ > 0) Stop(pid_, 5);
 }
 
+std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code) {
+  std::string error;
+  auto c = Connection::Open(g, writable, &error);
+  if (!c) {
+    std::cerr << "gaitforge: " << error << "\n";
+    *code = error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
+  }
+  return c;
+}
+
 int ReportRpcError(const grpc::Status& s, const std::string& what) {
   std::cerr << "gaitforge: " << what << ": " << s.error_message() << "\n";
   switch (s.error_code()) {

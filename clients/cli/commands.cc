@@ -20,15 +20,6 @@ int NeedArgs(const std::vector<std::string>& args, size_t n, const char* usage) 
   return kOk;
 }
 
-std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code) {
-  std::string error;
-  auto c = Connection::Open(g, writable, &error);
-  if (!c) {
-    std::cerr << "gaitforge: " << error << "\n";
-    *code = error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
-  }
-  return c;
-}
 
 std::string Genes(const google::protobuf::RepeatedField<double>& genes) {
   std::vector<std::string> parts;

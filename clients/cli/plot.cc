@@ -74,14 +74,11 @@ int CmdPlot(const GlobalOptions& g, const std::vector<std::string>& args,
     std::cerr << "gaitforge: usage: gaitforge plot STUDY_ID [--out DIR]\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, false, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
   std::vector<std::string> written;
-  const int code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
+  code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
   for (const auto& f : written) std::cout << f << "\n";
   return code;
 }

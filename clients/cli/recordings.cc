@@ -86,12 +86,9 @@ int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
                  "gaitforge recording list\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, args[0] == "add", &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, args[0] == "add", &code);
+  if (!conn) return code;
   if (args[0] == "add") {
     auto added = AddRecording(*conn, args[1], sidecar, g);
     if (!added.ok()) {

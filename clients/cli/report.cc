@@ -112,12 +112,9 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
                  "[--rank R] [--generation G] [--rate HZ] [--cycles N]\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, false, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
   auto hof = Hof(conn->study(), args[0], generation, g);
   if (!hof.ok()) return HofError(hof.status(), "trajectory " + args[0]);
   if (rank < 0 || rank >= hof->entries_size()) {
@@ -126,7 +123,7 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
     return kNotFound;
   }
   std::string printed;
-  const int code = RunCapture({SiblingBinary("gaitforge-sim"), "trajectory", "--genes",
+  code = RunCapture({SiblingBinary("gaitforge-sim"), "trajectory", "--genes",
                                GenesArg(hof->entries(rank).individual()), "--out", out, "--rate",
                                absl::StrFormat("%.17g", rate), "--cycles",
                                std::to_string(cycles)},
@@ -142,12 +139,9 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
     std::cerr << "gaitforge: usage: gaitforge report STUDY_ID [--out DIR]\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, false, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
   std::vector<std::string> written;
   grpc::ClientContext ctx;
   SetDeadline(ctx, g.timeout_s);
@@ -156,7 +150,7 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
   v1::StudySummary study;
   grpc::Status s = conn->study().GetStudy(&ctx, req, &study);
   if (!s.ok()) return ReportRpcError(s, "report " + args[0]);
-  int code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
+  code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
   const std::string& objective = study.spec().objective().name();
   if (code == kOk && objective == "caterpillar.calibration")
     code = CalibrationReport(*conn, study, out_dir, g, &written);
