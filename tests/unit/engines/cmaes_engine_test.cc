@@ -89,7 +89,11 @@ TEST(CmaesConfigTest, DefaultParametersFollowTheTutorial) {
   EXPECT_NEAR(pos, 1.0, 1e-12);  // eq. (53)
   EXPECT_LT(neg, 0.0);
   EXPECT_NEAR(p.mu_eff, 3.1672, 1e-3);
-  EXPECT_NEAR(p.c_sigma, (p.mu_eff + 2) / (10 + p.mu_eff + 5), 1e-15);
+  EXPECT_NEAR(p.c_sigma, (p.mu_eff + 2) / (10 + p.mu_eff + 3), 1e-15);  // Hansen 2001
+  // Active update at Hansen & Ros (2010)'s rate, inside the tutorial's bound (eq. 50).
+  const double c_neg = (1 - p.c_mu) * p.mu_eff / 4 / (std::pow(12.0, 1.5) + 2 * p.mu_eff);
+  EXPECT_NEAR(-neg * p.c_mu, c_neg, 1e-12);
+  EXPECT_LT(-neg, 1 + p.c1 / p.c_mu);
   EXPECT_NEAR(p.c1, 2.0 / (11.3 * 11.3 + p.mu_eff), 1e-15);
   EXPECT_LE(p.c1 + p.c_mu, 1.0);
 }
