@@ -103,13 +103,28 @@ def period_sweep(report, out):
 
 
 def wave(report, out):
-    pts = [p for p in report["wave"] if p["valid"]]
+    """The travelling-wave baseline: every intuitive wave shape over its periods (older
+    reports have one unnamed wave); the best shape in colour, the others grey."""
+    shapes = {}
+    for p in report["wave"]:
+        if p["valid"]:
+            shapes.setdefault(p.get("shape", "travelling wave"), []).append(p)
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot([p["period_s"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
-            marker="o", ms=3, color="tab:green", label="travelling wave")
-    if pts:
-        best = max(pts, key=lambda p: p["distance_per_cycle_m"])
-        ax.plot([best["period_s"]], [100 * best["distance_per_cycle_m"]], "k*", ms=10,
+    best = None
+    for pts in shapes.values():
+        top = max(pts, key=lambda p: p["distance_per_cycle_m"])
+        if best is None or top["distance_per_cycle_m"] > best["distance_per_cycle_m"]:
+            best = top
+    for name, pts in shapes.items():
+        is_best = best is not None and name == best.get("shape", "travelling wave")
+        ax.plot([p["period_s"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
+                marker="o" if is_best else None, ms=3, lw=1.5 if is_best else 0.8,
+                color="tab:green" if is_best else "0.7", zorder=3 if is_best else 2,
+                label=f"wave: {name}" if is_best else None)
+    if len(shapes) > 1:
+        ax.plot([], [], color="0.7", lw=0.8, label=f"{len(shapes) - 1} other wave shapes")
+    if best is not None:
+        ax.plot([best["period_s"]], [100 * best["distance_per_cycle_m"]], "k*", ms=10, zorder=4,
                 label=f"best wave: {100 * best['distance_per_cycle_m']:.2f} cm at "
                       f"T = {best['period_s']:.2f} s")
     if report["gaits"]:

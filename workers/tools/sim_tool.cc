@@ -103,10 +103,14 @@ std::vector<SweepPoint> PeriodSweep(const caterpillar::CaterpillarParams& params
 std::vector<SweepPoint> WaveSweep(const caterpillar::CaterpillarParams& params,
                                   const std::vector<double>& periods,
                                   const caterpillar::EvalOptions& options, int threads) {
-  std::vector<SweepPoint> out(periods.size());
-  ParallelFor(static_cast<int>(periods.size()), threads, [&](int i) {
-    out[i].period_s = periods[i];
-    auto gait = caterpillar::Gait::FromGenes(caterpillar::TravellingWaveGenes(periods[i]));
+  const auto& family = caterpillar::WaveFamily();
+  const int np = static_cast<int>(periods.size());
+  std::vector<SweepPoint> out(family.size() * periods.size());
+  ParallelFor(static_cast<int>(out.size()), threads, [&](int i) {
+    const caterpillar::WaveShape& shape = family[i / np];
+    out[i].period_s = periods[i % np];
+    out[i].shape = shape.Name();
+    auto gait = caterpillar::Gait::FromGenes(caterpillar::WaveGenes(out[i].period_s, shape));
     if (!gait.ok()) {
       out[i].eval.reason = std::string(gait.status().message());
       return;
@@ -121,10 +125,12 @@ std::string SweepJson(const std::vector<SweepPoint>& points) {
   for (size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
     absl::StrAppend(&out, i ? ",\n " : "",
-                    absl::StrFormat("{\"scale\": %.6g, \"period_s\": %.9g, \"valid\": %s, "
+                    p.shape.empty() ? "" : absl::StrCat("{\"shape\": \"", p.shape, "\", "),
+                    absl::StrFormat("%s\"scale\": %.6g, \"period_s\": %.9g, \"valid\": %s, "
                                     "\"distance_per_cycle_m\": %.9g, \"airborne_fraction\": %.6g, "
                                     "\"actuator_energy_j\": %.6g, \"reason\": \"%s\"}",
-                                    p.scale, p.period_s, p.eval.valid ? "true" : "false",
+                                    p.shape.empty() ? "{" : "", p.scale, p.period_s,
+                                    p.eval.valid ? "true" : "false",
                                     p.eval.valid ? p.eval.distance_per_cycle_m : 0.0,
                                     p.eval.airborne_fraction, p.eval.actuator_energy_j,
                                     JsonEscape(p.eval.reason)));

@@ -21,6 +21,7 @@ absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::s
 struct SweepPoint {
   double scale = 0;    // period multiplier (period sweep) or 0 (wave)
   double period_s = 0;
+  std::string shape;   // wave: WaveShape::Name(); else empty
   caterpillar::GaitEvaluation eval;
 };
 
