@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include <cstdio>
+#include <string>
 
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/gait.h"
@@ -20,7 +21,16 @@ double CpuSeconds() {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  if (argc > 1) {
+    const bool help = std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h";
+    std::fprintf(help ? stdout : stderr,
+                 "usage: gaitforge-bench-caterpillar\n"
+                 "Simulated seconds per core-second of the ODE caterpillar, evaluations per\n"
+                 "second per thread of a 3 s gait, and every travelling wave's distance per\n"
+                 "cycle at T = 0.8 s. No options.\n");
+    return help ? 0 : 2;
+  }
   using namespace gaitforge::caterpillar;
   gaitforge::sim::InitProcess();
   gaitforge::sim::InitThread();

@@ -134,8 +134,23 @@ int main(int argc, char** argv) {
   int seeds = 15;
   bool json = false;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--json") == 0) json = true;
-    if (std::strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) seeds = std::atoi(argv[++i]);
+    if (std::strcmp(argv[i], "--json") == 0) {
+      json = true;
+    } else if (std::strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) {
+      seeds = std::atoi(argv[++i]);
+    } else {
+      const bool help = std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0;
+      std::fprintf(help ? stdout : stderr,
+                   "usage: gaitforge-bench-cmaes [--seeds N] [--json]\n"
+                   "CMA-ES evaluations to f < 1e-8 (median over N seeds, default 15) on sphere,\n"
+                   "ellipsoid and Rosenbrock (d = 10, 13), Rastrigin with IPOP/BIPOP, and the\n"
+                   "overhead per generation. bench/engines.py puts DEAP beside it.\n");
+      return help ? 0 : 2;
+    }
+  }
+  if (seeds < 1) {
+    std::fprintf(stderr, "gaitforge-bench-cmaes: --seeds must be at least 1\n");
+    return 2;
   }
   const std::vector<Problem> problems = {
       {"sphere", 10, Restarts::kIpop, 100000},     {"ellipsoid", 10, Restarts::kIpop, 100000},

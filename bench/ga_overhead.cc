@@ -2,6 +2,8 @@
 // evaluation excluded (fitness precomputed). Prints one JSON line for bench/foundation.py.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "services/core/objective_catalog.h"
@@ -10,7 +12,17 @@
 using namespace gaitforge;
 
 int main(int argc, char** argv) {
+  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf("usage: gaitforge-bench-ga [GENERATIONS]\n"
+                "The GA's own cost per generation (Ask + Tell, 200 x 13 genes, default 2000\n"
+                "generations), one JSON line; bench/foundation.py reads it.\n");
+    return 0;
+  }
   const int generations = argc > 1 ? std::atoi(argv[1]) : 2000;
+  if (generations < 1) {
+    std::fprintf(stderr, "gaitforge-bench-ga: GENERATIONS must be a positive integer\n");
+    return 2;
+  }
   engines::ga::GaConfig c;
   c.seed = 1;
   c.population = 200;
