@@ -49,7 +49,7 @@ pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
 
 int RunCapture(const std::vector<std::string>& argv, std::string* out) {
   int fds[2];
-  if (pipe(fds) != 0) return -1;
+  if (pipe2(fds, O_CLOEXEC) != 0) return -1;  // no leak into children forked meanwhile
   pid_t pid = fork();
   if (pid < 0) return -1;
   if (pid == 0) {

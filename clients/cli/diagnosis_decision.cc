@@ -1,0 +1,75 @@
+#include "clients/cli/diagnosis_decision.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gaitforge::cli {
+
+double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
+  const size_t n = std::min(a.size(), b.size());
+  if (n < 2) return NAN;
+  double mean = 0, sq = 0;
+  for (size_t i = 0; i < n; ++i) mean += (a[i] - b[i]) / n;
+  for (size_t i = 0; i < n; ++i) sq += (a[i] - b[i] - mean) * (a[i] - b[i] - mean);
+  const double se = std::sqrt(sq / (n - 1) / n);
+  if (se > 0) return mean / se;
+  return mean > 0 ? INFINITY : mean < 0 ? -INFINITY : 0.0;
+}
+
+bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule) {
+  return fit.ok && fit.bic - base.bic < -rule.margin && std::isfinite(fit.held) &&
+         fit.held < (1 - rule.held_out_gain) * base.held &&
+         PairedT(base.held_variants, fit.held_variants) > rule.paired_t;
+}
+
+namespace {
+
+bool Contains(const FitScore& outer, const FitScore& inner) {
+  return std::all_of(inner.effects.begin(), inner.effects.end(), [&](const std::string& e) {
+    return std::find(outer.effects.begin(), outer.effects.end(), e) != outer.effects.end();
+  });
+}
+
+}  // namespace
+
+Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule) {
+  std::vector<int> order;
+  for (int i = 0; i < static_cast<int>(fits.size()); ++i) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return fits[a].effects.size() < fits[b].effects.size();
+  });
+  std::vector<int> winners;
+  for (int i : order) {
+    const FitScore& c = fits[i];
+    if (!BeatsBaseline(base, c, rule)) continue;
+    bool dominated = false;
+    for (int w : winners) {
+      if (Contains(c, fits[w]) &&
+          (c.bic > fits[w].bic - rule.margin || c.held > (1 - rule.pair_gain) * fits[w].held))
+        dominated = true;
+    }
+    if (!dominated) winners.push_back(i);
+  }
+  std::stable_sort(winners.begin(), winners.end(),
+                   [&](int a, int b) { return fits[a].bic < fits[b].bic; });
+  // A larger fit that survived its members replaces the best single it contains.
+  if (!winners.empty() && fits[winners[0]].effects.size() == 1) {
+    for (size_t i = 1; i < winners.size(); ++i) {
+      if (fits[winners[i]].effects.size() > 1 && Contains(fits[winners[i]], fits[winners[0]])) {
+        std::swap(winners[0], winners[i]);
+        break;
+      }
+    }
+  }
+  Decision d;
+  if (winners.empty()) return d;
+  d.named.push_back(winners[0]);
+  for (size_t i = 1; i < winners.size(); ++i)
+    if (fits[winners[i]].bic < fits[winners[0]].bic + rule.margin &&
+        fits[winners[i]].effects.size() == 1 && fits[winners[0]].effects.size() == 1)
+      d.named.push_back(winners[i]);
+  d.verdict = d.named.size() > 1 ? "ambiguous" : "found";
+  return d;
+}
+
+}  // namespace gaitforge::cli

@@ -1,0 +1,46 @@
+// The gap finder's verdict (docs/diagnosis.md, "Decide"): which fitted explanation, if any,
+// beats the baseline beyond noise. Pure functions over fit scores, so that the rule is
+// tested on its own (tests/unit/cli/diagnosis_decision_test.cc).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace gaitforge::cli {
+
+// One fitted explanation: the base model plus `effects` (none: the baseline).
+struct FitScore {
+  std::vector<std::string> effects;   // catalog ids
+  bool ok = false;                    // the fit produced a valid model
+  double bic = NAN;                   // on the training error
+  double held = NAN;                   // held-out error, mean over the numeric variants
+  std::vector<double> held_variants;  // held-out error under each numeric variant
+};
+
+struct DecisionRule {
+  double margin = 10;           // BIC margin against the baseline and between explanations
+  double held_out_gain = 0.15;  // a discovery cuts the baseline's held-out error this much
+  double paired_t = 2.015;      // and wins the paired comparison across variants (one-sided
+                                // 5% at 5 degrees of freedom: six variants)
+  double pair_gain = 0.05;      // a pair replaces its member only if 5% better held out
+};
+
+struct Decision {
+  std::string verdict = "none";  // "found", "ambiguous" or "none"
+  std::vector<int> named;        // indices into the fits: the explanation(s), best first
+};
+
+// Paired t statistic of a - b over the variants (positive when b has the lower errors);
+// +-infinity when every difference is the same, NAN with fewer than two variants.
+double PairedT(const std::vector<double>& a, const std::vector<double>& b);
+
+// Whether `fit` beats `base` on every criterion of `rule`.
+bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule);
+
+// Singles are judged first; a fit that contains a passing fit's effects must beat it by the
+// margin and by pair_gain held out, and then replaces it. Passing single effects within the
+// margin of the best: "ambiguous".
+Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
+
+}  // namespace gaitforge::cli

@@ -1,0 +1,100 @@
+// The gap finder's decision rule on hand-made fit scores: a clear effect is found, noise is
+// not, a pair must earn its extra parameters, near-ties are ambiguous.
+#include "clients/cli/diagnosis_decision.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace gaitforge::cli {
+namespace {
+
+FitScore Fit(std::vector<std::string> effects, double bic, std::vector<double> held) {
+  FitScore f;
+  f.effects = std::move(effects);
+  f.ok = true;
+  f.bic = bic;
+  f.held_variants = std::move(held);
+  double sum = 0;
+  for (double h : f.held_variants) sum += h;
+  f.held = sum / f.held_variants.size();
+  return f;
+}
+
+// A baseline whose held-out error moves by tens of percent across the numeric variants.
+FitScore Base() { return Fit({}, 0, {1.9, 2.5, 1.9, 1.8, 1.7, 1.7}); }
+
+TEST(PairedT, SignAndDegenerateCases) {
+  EXPECT_GT(PairedT({2, 3, 4}, {1, 2.1, 2.9}), 0);
+  EXPECT_LT(PairedT({1, 2.1, 2.9}, {2, 3, 4}), 0);
+  EXPECT_EQ(PairedT({2, 3}, {1, 2}), INFINITY);  // the same gain on every variant
+  EXPECT_EQ(PairedT({1, 1}, {1, 1}), 0.0);
+  EXPECT_TRUE(std::isnan(PairedT({1}, {0.5})));
+  // Paired, not pooled: a consistent small gain on noisy errors is significant.
+  EXPECT_NEAR(PairedT({1.0, 2.0, 3.0, 4.0}, {0.9, 1.9, 2.9, 3.85}), 9.0, 1e-9);
+}
+
+TEST(Decide, NamesAClearEffect) {
+  const std::vector<FitScore> fits = {Fit({"tether.constant"}, -4400, {0.5, 0.7, 0.7, 0.6, 0.6, 0.5}),
+                                      Fit({"tether.growing"}, -2000, {1.9, 2.7, 1.7, 1.7, 1.6, 1.6})};
+  const Decision d = Decide(Base(), fits, {});
+  EXPECT_EQ(d.verdict, "found");
+  ASSERT_EQ(d.named.size(), 1u);
+  EXPECT_EQ(d.named[0], 0);
+}
+
+TEST(Decide, BicAloneIsNotADiscovery) {
+  // A huge BIC gain (the rig's numerics differ from the model's) but the held-out error
+  // only moves within its variant-to-variant spread: no discovery.
+  const FitScore base = Fit({}, 0, {0.76, 0.62, 0.34, 0.66, 0.49, 0.45});
+  const std::vector<FitScore> fits = {Fit({"tether.growing"}, -3100, {0.81, 0.39, 0.33, 0.63, 0.45, 0.42})};
+  EXPECT_EQ(Decide(base, fits, {}).verdict, "none");
+}
+
+TEST(Decide, InconsistentHeldOutGainIsNotADiscovery) {
+  // 20% lower on average, but worse on half of the variants: the paired test fails.
+  const FitScore base = Fit({}, 0, {1, 1, 1, 1, 1, 1});
+  const std::vector<FitScore> fits = {Fit({"ground.slope"}, -100, {0.3, 1.1, 0.4, 1.05, 0.35, 1.6})};
+  EXPECT_LT(fits[0].held, 0.85 * base.held);
+  EXPECT_EQ(Decide(base, fits, {}).verdict, "none");
+}
+
+TEST(Decide, NeedsTheBicMarginToo) {
+  const std::vector<FitScore> fits = {Fit({"mass.offset"}, -5, {0.5, 0.7, 0.7, 0.6, 0.6, 0.5})};
+  EXPECT_EQ(Decide(Base(), fits, {}).verdict, "none");
+  FitScore failed = fits[0];
+  failed.ok = false;
+  EXPECT_EQ(Decide(Base(), {failed}, {}).verdict, "none");
+}
+
+TEST(Decide, APairMustBeatItsMember) {
+  const FitScore single = Fit({"friction.viscous"}, -3840, {0.62, 0.52, 0.41, 0.68, 0.55, 0.61});
+  // Better BIC, but the same held-out error: the single effect stands.
+  const FitScore pair = Fit({"friction.viscous", "mass.offset"}, -4200,
+                            {0.46, 0.65, 0.79, 0.55, 0.56, 0.50});
+  Decision d = Decide(Base(), {pair, single}, {});
+  EXPECT_EQ(d.verdict, "found");
+  ASSERT_EQ(d.named.size(), 1u);
+  EXPECT_EQ(d.named[0], 1);
+  // Better BIC by the margin and 20% lower held out: the pair replaces it.
+  const FitScore better = Fit({"friction.viscous", "mass.offset"}, -4200,
+                              {0.45, 0.40, 0.33, 0.55, 0.45, 0.50});
+  d = Decide(Base(), {single, better}, {});
+  EXPECT_EQ(d.verdict, "found");
+  ASSERT_EQ(d.named.size(), 1u);
+  EXPECT_EQ(d.named[0], 1);
+}
+
+TEST(Decide, TwoSinglesWithinTheMarginAreAmbiguous) {
+  const std::vector<FitScore> fits = {Fit({"tether.constant"}, -3000, {0.5, 0.7, 0.7, 0.6, 0.6, 0.5}),
+                                      Fit({"ground.slope"}, -2995, {0.6, 0.6, 0.7, 0.5, 0.6, 0.6})};
+  const Decision d = Decide(Base(), fits, {});
+  EXPECT_EQ(d.verdict, "ambiguous");
+  EXPECT_EQ(d.named.size(), 2u);
+  // Far apart in BIC: the better one is found.
+  const std::vector<FitScore> apart = {fits[0], Fit({"ground.slope"}, -2000, {0.6, 0.6, 0.7, 0.5, 0.6, 0.6})};
+  EXPECT_EQ(Decide(Base(), apart, {}).verdict, "found");
+}
+
+}  // namespace
+}  // namespace gaitforge::cli
