@@ -55,7 +55,8 @@ def score(result, answer):
     # Foreign cases (effects in other forms than the catalog's) may accept more than one id.
     accept = answer.get("accept") or [truth]
     if "error" in result:
-        return {"case": result["case"], "truth": truth, "predicted": "error", "correct": False}
+        return {"case": result["case"], "truth": truth, "predicted": "error", "correct": False,
+                "exact": False}
     verdict = result["verdict"]
     named = [e["id"] for e in result.get("effects", [])]
     if verdict == "none":
@@ -100,6 +101,7 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     a = ap.parse_args()
     a.bin_dir = os.path.abspath(a.bin_dir)  # each diagnosis runs in its own directory
+    a.suite = os.path.abspath(a.suite)
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
     results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers) for c in cases]
