@@ -59,6 +59,7 @@ struct Candidate : FitScore {
   std::string reason;
   std::vector<double> values, spread;
   double train = NAN;
+  std::vector<std::string> bound_params;  // effect parameters at the edge of their range
   int k = 0;                          // fitted parameters (nuisances included)
 };
 
@@ -433,10 +434,18 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   for (auto& c : full) ptrs.push_back(&c);
   if (int c = RunStudies(*conn, d, ptrs, d.full_evaluations(), train, held, g, "refitting"); c)
     return c;
+  const size_t base_genes = d.base_parameters_size();
   for (auto& c : full) {
     if (!c.ok) continue;
     c.bic = bic(c);
     ScoreHeldOut(c, held_files, d);
+    for (size_t i = base_genes; i < c.genes.size() && i < c.values.size(); ++i) {
+      if (c.genes[i].name().rfind("nuisance.", 0) == 0) continue;
+      if (AtBound(c.values[i], c.genes[i].lo(), c.genes[i].hi())) {
+        c.at_bound = true;
+        c.bound_params.push_back(c.genes[i].name());
+      }
+    }
   }
   std::sort(full.begin(), full.end(), [](const Candidate& a, const Candidate& b) {
     if (a.ok != b.ok) return a.ok;
@@ -478,6 +487,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     absl::StrAppend(&j, "}, \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
                     ", \"held_out_variants\": ", NumList(c.held_variants),
                     ", \"paired_t\": ", Num(PairedT(base.held_variants, c.held_variants)),
+                    ", \"at_bound\": [", absl::StrJoin(c.bound_params, ", ", [](std::string* o, const std::string& n) { o->append(Quote(n)); }), "]",
                     ", \"delta_bic\": ",
                     Num(c.bic - base.bic), "}");
     return j;
@@ -545,8 +555,11 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     std::cout << "  runners-up:";
     for (const auto& c : full)
       if (named.empty() || &c != named[0])
-        std::cout << absl::StrFormat(" %s (dBIC %.1f, held-out %.3g mm)", c.label, c.bic - base.bic,
-                                     1000 * c.held);
+        std::cout << absl::StrFormat(" %s (dBIC %.1f, held-out %.3g mm%s)", c.label, c.bic - base.bic,
+                                     1000 * c.held,
+                                     c.at_bound ? ", at the edge of its range: " +
+                                                      absl::StrJoin(c.bound_params, ", ")
+                                                : std::string());
     std::cout << "\n  report: " << dir << "/diagnosis.json\n";
   }
   return kOk;

@@ -16,8 +16,18 @@ double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
   return mean > 0 ? INFINITY : mean < 0 ? -INFINITY : 0.0;
 }
 
+bool AtBound(double x, double lo, double hi, double fraction) {
+  if (lo > 0 && hi >= 100 * lo) {
+    x = std::log(std::max(x, 1e-300));
+    lo = std::log(lo);
+    hi = std::log(hi);
+  }
+  const double margin = fraction * (hi - lo);
+  return (lo != 0 && x - lo < margin) || (hi != 0 && hi - x < margin);
+}
+
 bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule) {
-  return fit.ok && fit.bic - base.bic < -rule.margin && std::isfinite(fit.held) &&
+  return fit.ok && !fit.at_bound && fit.bic - base.bic < -rule.margin && std::isfinite(fit.held) &&
          fit.held < (1 - rule.held_out_gain) * base.held &&
          PairedT(base.held_variants, fit.held_variants) > rule.paired_t;
 }

@@ -16,6 +16,7 @@ struct FitScore {
   double bic = NAN;                   // on the training error
   double held = NAN;                   // held-out error, mean over the numeric variants
   std::vector<double> held_variants;  // held-out error under each numeric variant
+  bool at_bound = false;              // an effect parameter at the edge of its range
 };
 
 struct DecisionRule {
@@ -31,11 +32,18 @@ struct Decision {
   std::vector<int> named;        // indices into the fits: the explanation(s), best first
 };
 
+// Whether x sits within `fraction` of [lo, hi]'s width from an edge (a zero edge excepted:
+// "no effect" is a plausible value). Ranges spanning two decades or more with lo > 0 are
+// judged in log space, as their parameters are searched.
+bool AtBound(double x, double lo, double hi, double fraction = 0.02);
+
 // Paired t statistic of a - b over the variants (positive when b has the lower errors);
 // +-infinity when every difference is the same, NAN with fewer than two variants.
 double PairedT(const std::vector<double>& a, const std::vector<double>& b);
 
-// Whether `fit` beats `base` on every criterion of `rule`.
+// Whether `fit` beats `base` on every criterion of `rule`. A fit with an effect parameter at
+// the edge of its catalog range is no explanation: the data asked for an implausible value,
+// the sign of a mismatch the effect only absorbs.
 bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule);
 
 // Singles are judged first; a fit that contains a passing fit's effects must beat it by the

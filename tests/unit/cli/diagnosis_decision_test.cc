@@ -96,5 +96,23 @@ TEST(Decide, TwoSinglesWithinTheMarginAreAmbiguous) {
   EXPECT_EQ(Decide(Base(), apart, {}).verdict, "found");
 }
 
+TEST(AtBound, EdgesButNotZero) {
+  EXPECT_TRUE(AtBound(-0.3, -0.3, 0.3));    // a slope at the catalog's limit
+  EXPECT_TRUE(AtBound(49.5, 0, 50));        // within 2% of the top
+  EXPECT_FALSE(AtBound(41.6, 0, 50));
+  EXPECT_FALSE(AtBound(0.0, 0, 2.5));       // zero is "no effect", a plausible value
+  EXPECT_FALSE(AtBound(1e-5, 1e-6, 1e-2));  // four decades: judged in log space
+  EXPECT_TRUE(AtBound(1.1e-6, 1e-6, 1e-2));
+}
+
+TEST(Decide, AFitAtTheEdgeOfItsRangeIsNoExplanation) {
+  // The foreign null's false discovery: a growing tether with a slope pinned at -0.3 rad.
+  FitScore pinned = Fit({"tether.growing", "ground.slope"}, -2352, {1.9, 1.5, 1.8, 1.8, 1.9, 1.9});
+  const FitScore base = Fit({}, 0, {2.49, 1.98, 2.58, 2.6, 2.74, 2.77});
+  EXPECT_EQ(Decide(base, {pinned}, {}).verdict, "found");
+  pinned.at_bound = true;
+  EXPECT_EQ(Decide(base, {pinned}, {}).verdict, "none");
+}
+
 }  // namespace
 }  // namespace gaitforge::cli
