@@ -26,7 +26,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def diagnose(bin_dir, suite, case, screening, full, workers):
+def diagnose(bin_dir, suite, case, screening, full, workers, base=""):
     case_dir = os.path.join(suite, "cases", case)
     with open(os.path.join(case_dir, "case.json")) as f:
         c = json.load(f)
@@ -38,6 +38,11 @@ def diagnose(bin_dir, suite, case, screening, full, workers):
             f.write("training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]\n")
             f.write("held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]\n")
             f.write(f"screening_evaluations: {screening}\nfull_evaluations: {full}\n")
+            if base:  # NAME:LO:HI,... -> base_parameters, fitted in every study
+                f.write("base_parameters:\n")
+                for item in base.split(","):
+                    name, lo, hi = item.split(":")
+                    f.write(f"  - {{name: {name}, lo: {float(lo)!r}, hi: {float(hi)!r}}}\n")
         t0 = time.monotonic()
         r = subprocess.run([os.path.join(bin_dir, "gaitforge"), "diagnose", spec, "--json",
                             "--workers", str(workers)], cwd=d, capture_output=True, text=True)
@@ -99,12 +104,14 @@ def main():
     ap.add_argument("--screening", type=int, default=120)
     ap.add_argument("--full", type=int, default=480)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--base", default="",
+                    help="base parameters fitted in every study, NAME:LO:HI,... (default: none)")
     a = ap.parse_args()
     a.bin_dir = os.path.abspath(a.bin_dir)  # each diagnosis runs in its own directory
     a.suite = os.path.abspath(a.suite)
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
-    results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers) for c in cases]
+    results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base) for c in cases]
     # Only now: the answers.
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answers = json.load(f)
