@@ -29,4 +29,28 @@ Evaluation ReadEvaluation(core::ByteReader& r) {
   return e;
 }
 
+void WriteRanked(core::ByteWriter& w, const std::vector<Ranked>& v) {
+  w.U64(v.size());
+  for (const auto& h : v) {
+    w.U32(h.generation);
+    w.U32(h.member);
+    w.F64s(h.genes);
+    WriteEvaluation(w, h.eval);
+  }
+}
+
+bool ReadRanked(core::ByteReader& r, std::vector<Ranked>& v, size_t cap, size_t n) {
+  const uint64_t count = r.U64();
+  if (count > cap) return false;
+  v.resize(count);
+  for (auto& h : v) {
+    h.generation = static_cast<int>(r.U32());
+    h.member = static_cast<int>(r.U32());
+    h.genes = r.F64s();
+    h.eval = ReadEvaluation(r);
+    if (h.genes.size() != n) return false;
+  }
+  return r.ok();
+}
+
 }  // namespace gaitforge::engines

@@ -83,4 +83,11 @@ bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int mem
 void WriteEvaluation(core::ByteWriter& w, const Evaluation& e);
 Evaluation ReadEvaluation(core::ByteReader& r);
 
+// A list of ranked individuals (a hall of fame, the sweep's grid leaders) in engine state:
+// count, then generation, member, genes and evaluation of each. ReadRanked returns false
+// when the count exceeds `cap` or any genes vector is not `n` long (the reader's own errors
+// show in r.status()).
+void WriteRanked(core::ByteWriter& w, const std::vector<Ranked>& v);
+bool ReadRanked(core::ByteReader& r, std::vector<Ranked>& v, size_t cap, size_t n);
+
 }  // namespace gaitforge::engines

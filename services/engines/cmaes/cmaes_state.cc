@@ -84,14 +84,7 @@ std::string CmaesEngine::SaveState() const {
   w.F64s(best_history_);
   WriteMat(w, Z_);
   WriteMat(w, Y_);
-  const auto& hof = hof_.entries();
-  w.U64(hof.size());
-  for (const auto& h : hof) {
-    w.U32(h.generation);
-    w.U32(h.member);
-    w.F64s(h.genes);
-    WriteEvaluation(w, h.eval);
-  }
+  WriteRanked(w, hof_.entries());
   return w.data();
 }
 
@@ -145,17 +138,9 @@ absl::Status CmaesEngine::LoadState(std::string_view state) {
   std::vector<double> history = r.F64s();
   shapes = ReadMat(r, z, n_, -1) && shapes;
   shapes = ReadMat(r, y, n_, -1) && shapes;
-  const uint64_t n_hof = r.U64();
-  if (n_hof > static_cast<uint64_t>(hof_.capacity()))
-    return absl::DataLossError("CMA-ES state: hall of fame too large");
-  std::vector<Ranked> hof(n_hof);
-  for (auto& h : hof) {
-    h.generation = static_cast<int>(r.U32());
-    h.member = static_cast<int>(r.U32());
-    h.genes = r.F64s();
-    h.eval = ReadEvaluation(r);
-    if (h.genes.size() != static_cast<size_t>(n_)) shapes = false;
-  }
+  std::vector<Ranked> hof;
+  if (!ReadRanked(r, hof, hof_.capacity(), n_) && r.ok())
+    return absl::DataLossError("CMA-ES state: malformed hall of fame");
   if (auto s = r.status("CMA-ES state"); !s.ok()) return s;
   if (!r.AtEnd()) return absl::DataLossError("CMA-ES state: trailing bytes");
   if (!shapes || z.cols() != lambda || y.cols() != lambda)

@@ -164,13 +164,7 @@ std::string GaEngine::SaveState() const {
     w.U32(c.origin_generation);
     w.U32(c.origin_member);
   }
-  w.U64(hof_.size());
-  for (const auto& h : hof_) {
-    w.U32(h.generation);
-    w.U32(h.member);
-    w.F64s(h.genes);
-    WriteEvaluation(w, h.eval);
-  }
+  WriteRanked(w, hof_);
   return w.data();
 }
 
@@ -202,16 +196,10 @@ absl::Status GaEngine::LoadState(std::string_view state) {
     cand.origin_generation = static_cast<int>(r.U32());
     cand.origin_member = static_cast<int>(r.U32());
   }
-  const uint64_t n_hof = r.U64();
-  if (n_hof > static_cast<uint64_t>(c.population))
-    return absl::DataLossError("GA state: hall of fame larger than the population");
-  std::vector<Ranked> hof(n_hof);
-  for (auto& h : hof) {
-    h.generation = static_cast<int>(r.U32());
-    h.member = static_cast<int>(r.U32());
-    h.genes = r.F64s();
-    h.eval = ReadEvaluation(r);
-  }
+  std::vector<Ranked> hof;
+  if (!ReadRanked(r, hof, c.population, c.bounds.size()) && r.ok())
+    return absl::DataLossError("GA state: malformed hall of fame (larger than the population, "
+                               "or genes of another length)");
   if (auto s = r.status("GA state"); !s.ok()) return s;
   for (size_t m = 0; m < candidates.size(); ++m) {
     if (candidates[m].member != static_cast<int>(m) ||

@@ -115,36 +115,6 @@ absl::Status SweepEngine::Tell(const std::vector<Evaluation>& evals) {
 namespace {
 constexpr uint32_t kStateMagic = 0x31505753;  // "SWP1"
 
-void WriteRanked(core::ByteWriter& w, const std::vector<Ranked>& v) {
-  w.U64(v.size());
-  for (const auto& h : v) {
-    w.U32(h.generation);
-    w.U32(h.member);
-    w.F64s(h.genes);
-    w.U32(h.eval.valid ? 1 : 0);
-    w.F64(h.eval.fitness);
-    w.Str(h.eval.reason);
-    w.F64(h.eval.violation);
-  }
-}
-
-bool ReadRanked(core::ByteReader& r, std::vector<Ranked>& v, size_t cap, size_t n) {
-  const uint64_t count = r.U64();
-  if (count > cap) return false;
-  v.resize(count);
-  for (auto& h : v) {
-    h.generation = static_cast<int>(r.U32());
-    h.member = static_cast<int>(r.U32());
-    h.genes = r.F64s();
-    h.eval.valid = r.U32() != 0;
-    h.eval.fitness = r.F64();
-    h.eval.reason = r.Str();
-    h.eval.violation = r.F64();
-    if (h.genes.size() != n) return false;
-  }
-  return r.ok();
-}
-
 void WriteConfig(core::ByteWriter& w, const SweepConfig& c) {
   w.U64(c.seed);
   w.F64s(c.bounds.lo);
