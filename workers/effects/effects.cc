@@ -99,6 +99,20 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Blocked force of one actuator with a load cell at the supply pressure, or the time "
        "to full stroke of a free actuator: a lag changes the shape of the rise, the force "
        "its rate."},
+      {"actuator.deadband",
+       "Actuator deadband",
+       "Piston seal friction: each actuator moves only while the other forces along it "
+       "(push, return spring, the body) exceed a band of +-F; inside it the piston holds "
+       "(paper 001: servo deadband; for on/off pistons, stiction of the seals). Coulomb "
+       "friction along the actuator line, implicit. Above the return spring's force at full "
+       "stroke (63 N/m x 11 mm = 0.7 N) a switched-off actuator no longer returns fully.",
+       {{"effect.actuator_deadband_n", 0, 3, 0, "N"}},
+       "Strokes that start late and stop short of the stops, lengths that stay put after a "
+       "switch (a plateau before the return), the return incomplete when F passes 0.7 N; "
+       "less travel for every gait, most for short ON windows.",
+       "Pull one idle actuator apart with a force gauge: the force at which it starts to "
+       "move is F (a lag or a weak push needs no force to move it); or switch it off at full "
+       "stroke and watch whether it returns all the way."},
       {"contact.softness",
        "Soft ground contact",
        "The silicone feet (and the ground) compress: ODE's contact CFM (m/(N s)); the "

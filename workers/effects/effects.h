@@ -10,7 +10,7 @@
 //
 // Ids are stable (a study or report may store them):
 //   tether.constant tether.growing ground.slope friction.viscous friction.anisotropic
-//   actuator.lag actuator.delay actuator.force_scale contact.softness mass.offset
+//   actuator.lag actuator.delay actuator.force_scale actuator.deadband contact.softness mass.offset
 //   stiffness.scale spring.softening model.resolution
 // model.resolution has no parameters: not available as a fitted effect in this build.
 #include <string>

@@ -34,7 +34,8 @@ const std::vector<double> kForwardGenes = {
 const std::vector<std::string> kEffectNames = {
     "effect.tether_force_n",   "effect.tether_stiffness_n_per_m", "effect.slope_rad",
     "effect.drag_n_s_per_m",   "effect.friction_forward",         "effect.friction_backward",
-    "effect.actuator_lag_s",   "effect.actuator_delay_s",         "effect.spring_softening"};
+    "effect.actuator_lag_s",   "effect.actuator_delay_s",         "effect.spring_softening",
+    "effect.actuator_deadband_n"};
 
 CaterpillarParams With(const std::string& name, double value) {
   CaterpillarParams p = Params();
@@ -263,6 +264,47 @@ TEST(CaterpillarEffects, ActuatorDelayShiftsTheMotionInTime) {
               0.3 * FreeTravel());
 }
 
+// The deadband: lumps 1 and 2 with T1 and B1, no ground or gravity. T1 pushed for 0.3 s,
+// then switched off. Pushing against a band F, it comes to rest no further out than the
+// model without a band under a push of 8.8 - F (Coulomb: the band takes F off a push that
+// moves the piston; it sticks as soon as the net force drops inside the band, so up to 0.5
+// mm short of that, while the links still settle). Switched off, it returns to its rest length without a band, and with
+// one stops where the restoring force (return spring and links) falls to F: further out
+// the wider the band. A band above the 8.8 N push never lets it move.
+TEST(CaterpillarEffects, ActuatorDeadbandHoldsThePistonInsideTheBand) {
+  auto stroke_after = [&](double band, double force, double on_s, double off_s) {
+    CaterpillarParams p = With("effect.actuator_deadband_n", band);
+    p.actuators.force_n = force;
+    BuildOptions o = FreeChain(1, 2);
+    o.actuators = true;
+    CaterpillarSim sim(p, o);
+    Simulate(sim, on_s, 1u);  // T1 on, B1 off
+    const double on = sim.actuator_lengths()[0] - p.actuators.min_length_m;
+    Simulate(sim, off_s, 0u);
+    return std::make_pair(on, sim.actuator_lengths()[0] - p.actuators.min_length_m);
+  };
+  const double push = Params().actuators.force_n;
+  double previous_off = -1;
+  for (double band : {0.0, 1.0, 2.0, 3.0}) {
+    const auto [on, off] = stroke_after(band, push, 0.3, 0.5);
+    if (band > 0) {
+      const double reduced_push = stroke_after(0, push - band, 0.3, 0).first;
+      EXPECT_LT(on, reduced_push + 5e-5) << "band " << band;
+      EXPECT_GT(on, reduced_push - 6e-4) << "band " << band;
+      EXPECT_GT(off, previous_off + 5e-4) << "band " << band;
+    } else {
+      EXPECT_NEAR(on, Params().actuators.max_length_m - Params().actuators.min_length_m, 2e-4);
+      EXPECT_LT(off, 1e-5) << "no band: back to rest";
+    }
+    previous_off = off;
+  }
+  EXPECT_LT(stroke_after(10, push, 0.3, 0).first, 1e-4) << "band 10 N > 8.8 N push";
+  // The band slows the stroke: less extension after 10 ms.
+  EXPECT_LT(stroke_after(3, push, 0.01, 0).first, 0.8 * stroke_after(0, push, 0.01, 0).first);
+  // On the ground, the evolved gait's travel changes: 1.4 against 2.9 cm per cycle at 1.5 N.
+  EXPECT_LT(MeanTravel(With("effect.actuator_deadband_n", 1.5)), 0.7 * FreeTravel());
+}
+
 // Softening springs, statically: two lumps pulled apart by F settle where
 // F = k x / sqrt(1 + (sigma x)^2), x = F / sqrt(k^2 - F^2 sigma^2). (Compression is
 // symmetric in the model, but a free pair under end loads buckles: not testable this way.)
@@ -299,7 +341,8 @@ TEST(CaterpillarEffects, SetParamKnowsEveryEffectAndRejectsOutOfRange) {
                {"effect.friction_backward", 10.5},      {"effect.actuator_lag_s", -0.001},
                {"effect.actuator_lag_s", 2},            {"effect.actuator_delay_s", 0.21},
                {"effect.actuator_delay_s", -0.01},      {"effect.spring_softening", -1},
-               {"effect.spring_softening", 2000},       {"effect.slope_rad", NAN}};
+               {"effect.spring_softening", 2000},       {"effect.slope_rad", NAN},
+               {"effect.actuator_deadband_n", -0.1},    {"effect.actuator_deadband_n", 21}};
   for (const auto& c : cases) {
     CaterpillarParams p = Params();
     const absl::Status s = SetParam(p, c.name, c.bad);
@@ -325,7 +368,7 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
   EXPECT_EQ(ids, (std::vector<std::string>{
                      "tether.constant", "tether.growing", "ground.slope", "friction.viscous",
                      "friction.anisotropic", "actuator.lag", "actuator.delay",
-                     "actuator.force_scale", "contact.softness", "mass.offset", "stiffness.scale",
+                     "actuator.force_scale", "actuator.deadband", "contact.softness", "mass.offset", "stiffness.scale",
                      "spring.softening", "model.resolution"}));
   for (const auto& e : effects::EffectCatalog()) {
     EXPECT_EQ(effects::FindEffect(e.id), &e);

@@ -79,6 +79,11 @@ struct CaterpillarParams {
     // (OFF before the run starts). Continuous in d: a fractional step delays the switch by
     // the matching share of the step's force. s, 0..0.2.
     double actuator_delay_s = 0;
+    // Deadband of each actuator in force: Coulomb friction of the piston seals, up to F
+    // along the actuator line against its extension rate, so the piston moves only while
+    // the other forces along it exceed F (a net force inside +-F holds it still). Implicit:
+    // a bounded constraint row per actuator and step. N, >= 0 (0 = off).
+    double actuator_deadband_n = 0;
     // Saturating axial link springs: sigma = 1/x_s (1/m); the axial spring force becomes
     // F = k x / sqrt(1 + (sigma x)^2) (x the axial extension, either sign): stiffness
     // k / (1 + (sigma x)^2)^(3/2), always positive, force saturating at k x_s. Set each

@@ -120,6 +120,7 @@ void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
     const double ux = (f.x - r.x) / len, uy = (f.y - r.y) / len, uz = (f.z - r.z) / len;
     dBodyAddForceAtPos(act.front, push * ux, push * uy, push * uz, f.x, f.y, f.z);
     dBodyAddForceAtPos(act.rear, -push * ux, -push * uy, -push * uz, r.x, r.y, r.z);
+    if (params_.effects.actuator_deadband_n > 0) AddActuatorDeadband(act, r, f, ux, uy, uz);
 
     const double predicted = len + h_ * rate;
     const bool at_max = predicted + margin >= a.max_length_m;
@@ -146,6 +147,38 @@ void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
       dJointAttach(j, act.front, act.rear);
     }
   }
+}
+
+// The deadband (effects.actuator_deadband_n): Coulomb friction of the piston, a row along
+// the actuator line with zero target rate, bounded by +-F. ODE's symmetric bounded row is a
+// contact's friction row (fdir1 along the line; mu without dContactApprox1 is a force
+// limit in newtons): on the line, the relative velocity at its midpoint along the line is
+// exactly the rate of the length. The contact's normal (across the line, in the x-z plane)
+// is made inert by a very soft CFM (at most about 1e-3 N for speeds of 1 m/s), and slip1
+// gives the friction row the stop rows' softness, so that both may act at a stop.
+void CaterpillarSim::AddActuatorDeadband(const ActuatorGeometry& act, const Vec3& r,
+                                         const Vec3& f, double ux, double uy, double uz) {
+  dContact c{};
+  c.surface.mode = dContactMu2 | dContactFDir1 | dContactSoftCFM | dContactSlip1;
+  c.surface.mu = params_.effects.actuator_deadband_n;
+  c.surface.mu2 = 0;
+  c.surface.soft_cfm = 1e3;
+  c.surface.slip1 = params_.actuators.stop_cfm;
+  c.geom.pos[0] = 0.5 * (r.x + f.x);
+  c.geom.pos[1] = 0.5 * (r.y + f.y);
+  c.geom.pos[2] = 0.5 * (r.z + f.z);
+  c.geom.normal[0] = -uz;  // u turned a quarter about y: across the line, in the plane
+  c.geom.normal[1] = 0;
+  c.geom.normal[2] = ux;
+  const double n = std::hypot(ux, uz);
+  if (n < 1e-9) return;  // a line along y cannot happen in the planar robot
+  c.geom.normal[0] /= n;
+  c.geom.normal[2] /= n;
+  c.geom.depth = 0;
+  c.fdir1[0] = ux;
+  c.fdir1[1] = uy;
+  c.fdir1[2] = uz;
+  dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), act.front, act.rear);
 }
 
 double CaterpillarSim::DelayedCommand(int index) const {

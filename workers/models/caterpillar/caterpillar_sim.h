@@ -1,7 +1,7 @@
 #pragma once
 // Steps the caterpillar: per step, actuator forces (ON push plus return spring), stroke
 // stops, ground and lump-lump contacts, the candidate effects of params.effects (tether,
-// drag, slope, anisotropic friction, actuator lag and delay, softening springs; all OFF at
+// drag, slope, anisotropic friction, actuator lag, delay and deadband, softening springs; all OFF at
 // zero), one dWorldStep, then a divergence check.
 #include <cstdint>
 #include <deque>
@@ -44,6 +44,8 @@ class CaterpillarSim {
   // Fraction (0..1) of actuator `index`'s push commanded during this step after the
   // transport delay; the current mask must already be in mask_history_.
   double DelayedCommand(int index) const;
+  void AddActuatorDeadband(const ActuatorGeometry& act, const Vec3& r, const Vec3& f,
+                           double ux, double uy, double uz);
   void ApplyEffects();
   void AddGroundContacts();
   void AddLumpContacts();

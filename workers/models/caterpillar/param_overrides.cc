@@ -50,6 +50,7 @@ const std::vector<Field>& Fields() {
       {"effect.friction_backward", "", 0, 10, GF_REF(effects.friction_backward)},
       {"effect.actuator_lag_s", "s", 0, 1, GF_REF(effects.actuator_lag_s)},
       {"effect.actuator_delay_s", "s", 0, 0.2, GF_REF(effects.actuator_delay_s)},
+      {"effect.actuator_deadband_n", "N", 0, 20, GF_REF(effects.actuator_deadband_n)},
       {"effect.spring_softening", "1/m", 0, 1000, GF_REF(effects.spring_softening)},
   };
   return fields;

@@ -31,6 +31,8 @@
 //   effect.friction_backward                   -        [0, 10]   ... sliding -x (0: model's own)
 //   effect.actuator_lag_s                      s        [0, 1]    first-order lag of the push
 //   effect.actuator_delay_s                    s        [0, 0.2]  transport delay of on/off
+//   effect.actuator_deadband_n                 N        [0, 20]   piston seal friction: no
+//                                                        motion while |net force| < F
 //   effect.spring_softening                    1/m      [0, 1000] 1/x_s: axial spring force
 //                                                        k x / sqrt(1 + (x/x_s)^2)
 // Scale (a positive finite factor multiplying the current value; the result must stay in
