@@ -74,6 +74,7 @@ CASES = [
     ("tether-light", "tether.constant", {"effect.tether_force_n": 0.5}, 102),
     ("slope-up", "ground.slope", {"effect.slope_rad": 0.15}, 103),
     ("drag", "friction.viscous", {"effect.drag_n_s_per_m": 1.0}, 104),
+    ("deadband", "actuator.deadband", {"effect.actuator_deadband_n": 1.0}, 107),
     ("null-a", "none", {}, 105),
     ("null-b", "none", {}, 106),
 ]
