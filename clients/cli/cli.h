@@ -89,8 +89,11 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
 int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, int rank,
                   int generation, const std::string& out, double rate, int cycles);
 // The caterpillar paper's figures (gait diagrams, period sweep, travelling wave) for the
-// study's `top` best gaits, and the best one's marker trajectory, into out_dir.
-int CaterpillarReport(v1::StudyService::Stub& stub, const std::string& id,
+// study's `top` best gaits, and the best one's marker trajectory, into out_dir; every
+// simulation with the study's own model (its objective's `set`, timestep_ms and
+// settle_cycles). Each best gait is also re-run at half and a quarter of the timestep
+// ("timestep_check"): the hopping robot's single-cycle fitness can be numerical luck.
+int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
                       const std::string& out_dir, const GlobalOptions& g, int top,
                       std::vector<std::string>* written);
 int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,

@@ -49,7 +49,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
     if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk) {
       if (objective == "caterpillar.distance") {
         if (!g.json) std::cerr << "drawing the caterpillar paper's figures...\n";
-        CaterpillarReport(conn.study(), id, out_dir, g, 3, &figures);
+        CaterpillarReport(conn.study(), study, out_dir, g, 3, &figures);
       } else if (objective == "caterpillar.calibration") {
         if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
         CalibrationReport(conn, study, out_dir, g, &figures);

@@ -1,6 +1,8 @@
 // `gaitforge report ID` and `gaitforge trajectory ID`: the caterpillar paper's figures and
 // marker exports for a study's best gaits. The coordinator gives the genotypes; the
 // simulations run in gaitforge-sim, the workers' own model build.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -43,50 +45,112 @@ int HofError(const absl::Status& s, const std::string& what) {
                         what);
 }
 
+// The study's model as gaitforge-sim flags: the objective's `set` overrides (a corrected
+// model), its timestep and settling cycles. `timestep_s` gets the step the study ran at
+// (0 when it used the model file's own).
+std::vector<std::string> StudyModelFlags(const v1::ObjectiveSpec& objective, double* timestep_s) {
+  std::vector<std::string> flags;
+  std::string set;
+  if (auto it = objective.options().find("set"); it != objective.options().end()) set = it->second;
+  *timestep_s = 0;
+  if (auto it = objective.params().find("timestep_ms"); it != objective.params().end()) {
+    *timestep_s = it->second * 1e-3;
+    absl::StrAppend(&set, set.empty() ? "" : ",",
+                    absl::StrFormat("simulation.timestep_s=%.17g", *timestep_s));
+  }
+  if (!set.empty()) flags.insert(flags.end(), {"--set", set});
+  if (auto it = objective.params().find("settle_cycles"); it != objective.params().end())
+    flags.insert(flags.end(), {"--settle", absl::StrFormat("%d", static_cast<int>(it->second))});
+  return flags;
+}
+
+std::vector<std::string> Concat(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// The gait's distance per cycle (mean of 10 cycles) at its own period, at `timestep_s`,
+// as a JSON object; empty on failure.
+std::string TimestepCheck(const std::string& sim, const std::string& genes,
+                          const v1::ObjectiveSpec& objective, double timestep_s) {
+  v1::ObjectiveSpec at = objective;
+  (*at.mutable_params())["timestep_ms"] = timestep_s * 1e3;
+  double ignored = 0;
+  std::string out;
+  if (RunCapture(Concat({sim, "period-sweep", "--genes", genes, "--scales", "1,1,1",
+                         "--cycles", "10"},
+                        StudyModelFlags(at, &ignored)),
+                 &out) != 0)
+    return "";
+  return absl::StrFormat("{\"timestep_s\": %.17g, \"result\": %s}", timestep_s, out);
+}
+
 }  // namespace
 
-int CaterpillarReport(v1::StudyService::Stub& stub, const std::string& id,
+int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
                       const std::string& out_dir, const GlobalOptions& g, int top,
                       std::vector<std::string>* written) {
+  const std::string& id = study.study_id();
   auto hof = Hof(stub, id, -1, g);
   if (!hof.ok()) return HofError(hof.status(), "report " + id);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   const std::string sim = SiblingBinary("gaitforge-sim");
+  const v1::ObjectiveSpec& objective = study.spec().objective();
+  double timestep_s = 0;
+  const std::vector<std::string> model = StudyModelFlags(objective, &timestep_s);
+  if (timestep_s == 0) timestep_s = 1e-3;  // caterpillar.yaml's simulation.timestep_s
   std::string json = "{\n\"study_id\": \"" + id + "\",\n\"gaits\": [";
   int n = 0;
   for (const auto& e : hof->entries()) {
     if (n >= top) break;
     if (!e.individual().evaluation().valid()) continue;
     std::string sweep;
-    const int code = RunCapture({sim, "period-sweep", "--genes", GenesArg(e.individual()),
-                                 "--scales", "0.5,2,13", "--cycles", "10"},
+    const int code = RunCapture(Concat({sim, "period-sweep", "--genes", GenesArg(e.individual()),
+                                        "--scales", "0.5,2,13", "--cycles", "10"},
+                                       model),
                                 &sweep);
     if (code != 0) {
       std::cerr << "gaitforge: gaitforge-sim period-sweep failed (exit " << code << ")\n";
       return kFailed;
     }
+    std::vector<std::string> checks;
+    for (double f : {1.0, 0.5, 0.25}) {
+      const std::string c = TimestepCheck(sim, GenesArg(e.individual()), objective, f * timestep_s);
+      if (c.empty()) {
+        std::cerr << "gaitforge: gaitforge-sim period-sweep (timestep check) failed\n";
+        return kFailed;
+      }
+      checks.push_back(c);
+    }
     std::vector<std::string> genes;
     for (double x : e.individual().genes()) genes.push_back(absl::StrFormat("%.17g", x));
     absl::StrAppend(&json, n ? ",\n" : "\n",
                     absl::StrFormat("{\"rank\": %d, \"generation\": %d, \"member\": %d, "
-                                    "\"fitness\": %.17g, \"genes\": [%s],\n \"period_sweep\": %s}",
+                                    "\"fitness\": %.17g, \"genes\": [%s],\n \"period_sweep\": %s,\n"
+                                    " \"timestep_check\": [%s]}",
                                     e.rank(), e.individual().generation(),
                                     e.individual().member(),
                                     e.individual().evaluation().fitness(),
-                                    absl::StrJoin(genes, ", "), sweep));
+                                    absl::StrJoin(genes, ", "), sweep,
+                                    absl::StrJoin(checks, ", ")));
     if (n == 0) {
       const std::string csv = out_dir + "/" + id + "-best-trajectory.csv";
+      // Markers are sampled on steps: 100 Hz, or the nearest rate whose interval is a whole
+      // number of the study's steps.
+      const double rate = 1.0 / (std::max(1.0, std::round(0.01 / timestep_s)) * timestep_s);
       std::string ignored;
-      if (RunCapture({sim, "trajectory", "--genes", GenesArg(e.individual()), "--out", csv,
-                      "--cycles", "3", "--rate", "100"},
+      if (RunCapture(Concat({sim, "trajectory", "--genes", GenesArg(e.individual()), "--out",
+                             csv, "--cycles", "3", "--rate", absl::StrFormat("%.17g", rate)},
+                            model),
                      &ignored) == 0)
         written->push_back(csv);
     }
     ++n;
   }
   std::string wave;
-  if (int code = RunCapture({sim, "wave", "--periods", "0.2,2.0,19", "--cycles", "10"}, &wave);
+  if (int code = RunCapture(
+          Concat({sim, "wave", "--periods", "0.2,2.0,19", "--cycles", "10"}, model), &wave);
       code != 0) {
     std::cerr << "gaitforge: gaitforge-sim wave failed (exit " << code << ")\n";
     return kFailed;
@@ -122,12 +186,21 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
               << hof->entries_size() - 1 << "]\n";
     return kNotFound;
   }
+  // The study's own model (a corrected model's `set`, its timestep and settling).
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(args[0]);
+  v1::StudySummary study;
+  if (grpc::Status s = conn->study().GetStudy(&ctx, req, &study); !s.ok())
+    return ReportRpcError(s, "trajectory " + args[0]);
+  double timestep_s = 0;
   std::string printed;
-  code = RunCapture({SiblingBinary("gaitforge-sim"), "trajectory", "--genes",
-                               GenesArg(hof->entries(rank).individual()), "--out", out, "--rate",
-                               absl::StrFormat("%.17g", rate), "--cycles",
-                               std::to_string(cycles)},
-                              &printed);
+  code = RunCapture(Concat({SiblingBinary("gaitforge-sim"), "trajectory", "--genes",
+                            GenesArg(hof->entries(rank).individual()), "--out", out, "--rate",
+                            absl::StrFormat("%.17g", rate), "--cycles", std::to_string(cycles)},
+                           StudyModelFlags(study.spec().objective(), &timestep_s)),
+                    &printed);
   if (code != 0) return code == 2 ? kUsage : kFailed;
   std::cout << out << "\n";
   return kOk;
@@ -155,7 +228,7 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
   if (code == kOk && objective == "caterpillar.calibration")
     code = CalibrationReport(*conn, study, out_dir, g, &written);
   else if (code == kOk && objective == "caterpillar.distance")
-    code = CaterpillarReport(conn->study(), args[0], out_dir, g, 3, &written);
+    code = CaterpillarReport(conn->study(), study, out_dir, g, 3, &written);
   for (const auto& f : written) std::cout << f << "\n";
   return code;
 }

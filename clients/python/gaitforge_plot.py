@@ -87,10 +87,26 @@ def gait_diagrams(report, out):
 
 def period_sweep(report, out):
     fig, ax = plt.subplots(figsize=(7, 4))
+    marks = {0.5: ("s", "h/2"), 0.25: ("^", "h/4")}
     for gait in report["gaits"]:
         pts = [p for p in gait["period_sweep"] if p["valid"]]
-        ax.plot([p["scale"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
-                marker="o", ms=3, label=f"rank {gait['rank']} (T = {gait['genes'][12]:.2f} s)")
+        line, = ax.plot([p["scale"] for p in pts], [100 * p["distance_per_cycle_m"] for p in pts],
+                        marker="o", ms=3, label=f"rank {gait['rank']} (T = {gait['genes'][12]:.2f} s)")
+        # The same gait at its own period with a finer step (older reports have none): how
+        # much of its travel survives numerically irrelevant changes.
+        checks = gait.get("timestep_check", [])
+        if checks:
+            h = checks[0]["timestep_s"]
+            for c in checks[1:]:
+                r = c["result"][0] if c["result"] else None
+                if not r or not r["valid"]:
+                    continue
+                m, name = marks.get(round(c["timestep_s"] / h, 3), ("x", f"h = {c['timestep_s']:g} s"))
+                ax.plot([1.0], [100 * r["distance_per_cycle_m"]], ls="none", marker=m, ms=7,
+                        mfc="none", color=line.get_color())
+    for m, name in marks.values():
+        ax.plot([], [], ls="none", marker=m, mfc="none", color="grey",
+                label=f"at period 1: timestep {name}")
     ax.axvline(1.0, color="grey", ls="--", lw=1)
     ax.set_xscale("log", base=2)
     ax.set_xlabel("period / evolved period")

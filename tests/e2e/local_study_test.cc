@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 
 #include "clients/cli/cli.h"
 #include "grpc/health/v1/health.grpc.pb.h"
@@ -250,6 +253,43 @@ TEST(EndToEnd, CaterpillarStudyRunsInOdeAndReportsThePapersFigures) {
                         id.substr(0, id.size() - 1) + " --rank 99 --output x.csv");
   EXPECT_EQ(bad.exit_code, 3);
   EXPECT_NE(bad.err.find("--rank = 99 is out of range [0, 3]"), std::string::npos) << bad.err;
+}
+
+// The report re-simulates the best gaits with the study's own model: its `set` overrides
+// and its timestep, and re-runs each at half and a quarter of that step. With the pistons'
+// force set to 0 nothing moves, in the study and in every re-simulation; the model file's
+// 8.8 N would move them by millimetres per cycle.
+TEST(EndToEnd, CaterpillarReportUsesTheStudysModel) {
+  TempDir dir;
+  WriteFile(dir.File("still.yaml"),
+            "name: still\nseed: 4\npopulation: 8\ngenerations: 1\n"
+            "objective: {name: caterpillar.distance, params: {timestep_ms: 0.8},\n"
+            "            options: {set: \"actuators.force_n=0\"}}\n"
+            "ga: {elite: 3}\n");
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
+                      " local still.yaml --workers 1 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string report;
+  for (const auto& e : std::filesystem::directory_iterator(dir.File("runs/plots")))
+    if (e.path().string().ends_with("-report.json")) report = ReadFile(e.path().string());
+  ASSERT_FALSE(report.empty());
+  // Three gaits, each checked at 0.8, 0.4 and 0.2 ms.
+  std::map<long, int> steps;  // microseconds x 10 -> count
+  const std::string step_key = "\"timestep_s\": ";
+  for (size_t at = report.find(step_key); at != std::string::npos;
+       at = report.find(step_key, at + 1))
+    ++steps[std::lround(1e7 * std::strtod(report.c_str() + at + step_key.size(), nullptr))];
+  EXPECT_EQ(steps, (std::map<long, int>{{2000, 3}, {4000, 3}, {8000, 3}}));
+  // Every simulated distance in the report (sweeps and checks, not the wave) is ~0.
+  const std::string gaits = report.substr(0, report.find("\"wave\""));
+  const std::string key = "\"distance_per_cycle_m\": ";
+  int distances = 0;
+  for (size_t at = gaits.find(key); at != std::string::npos; at = gaits.find(key, at + 1)) {
+    const double d = std::strtod(gaits.c_str() + at + key.size(), nullptr);
+    EXPECT_LT(std::fabs(d), 1e-4) << gaits.substr(at, 60);
+    ++distances;
+  }
+  EXPECT_EQ(distances, 3 * (13 + 3));
 }
 
 }  // namespace

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
       }
     }
   }
-  {
+  if (cmd == "trajectory" || cmd == "calibration-eval") {
     // Markers are sampled on simulation steps: the interval must be a whole number of them.
     const double steps = 1.0 / (rate * params->simulation.timestep_s);
     if (std::abs(steps - std::round(steps)) > 1e-9 || std::round(steps) < 1) {
