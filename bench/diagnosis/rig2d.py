@@ -16,7 +16,8 @@ What differs from workers/models/caterpillar, on purpose:
 
 Effects are written in forms of their own (EFFECTS below), not the library's: a hose that
 pulls the rear lump backwards and 30 degrees upwards, growing with distance; quadratic drag;
-a first-order lag on the actuators' force; a tilted gravity.
+a first-order lag on the actuators' force; a tilted gravity; seal friction of the pistons
+with a breakaway force above the sliding one (Stribeck form, smoothed through zero speed).
 
 Vectorised over a batch of runs that share one gait (numpy). Output: the recording CSV of
 docs/recording-format.md (t, m1.x, m1.y, m1.z, ..., m6.z) from the end of the settle cycles.
@@ -204,6 +205,7 @@ class Rig:
         ux, uz = dx / length, dz / length
         rate = (qvx - rvx) * ux + (qvz - rvz) * uz
         push = self.lag_force - RETURN_K * (length - L_MIN)
+        push -= self._seal_friction(rate)
         c_stop = _crit(K_STOP, M / 2)
         push += np.where(length < L_MIN, K_STOP * (L_MIN - length) - c_stop * rate, 0.0)
         push += np.where(length > L_MAX, -K_STOP * (length - L_MAX) - c_stop * rate, 0.0)
@@ -217,6 +219,17 @@ class Rig:
         self.z += H * self.vz
         self.th += H * self.w
         self.t += H
+
+    def _seal_friction(self, rate):
+        """Piston seal friction against the length's rate: sliding force Fc, breakaway Fs
+        at low speed (Stribeck, speed scale 30 mm/s), through zero speed as tanh(v / 10 mm/s)
+        (explicit: its slope at zero, Fs / 10 mm/s = 120 N s/m for 1.2 N, keeps h c / m
+        below 1 on the 7.5 g reduced mass of two sub-lumps at 50 us)."""
+        fc = np.array([e.get("seal_n", 0.0) for e in self.eff])[:, None]
+        fs = np.array([e.get("seal_break_n", 0.0) for e in self.eff])[:, None]
+        fs = np.maximum(fs, fc)
+        level = fc + (fs - fc) * np.exp(-(rate / 0.03) ** 2)
+        return level * np.tanh(rate / 0.01)
 
     def _contacts(self, fx, fz, tq):
         c_n = _crit(self.kc, M / 2, ZETA_CONTACT)
