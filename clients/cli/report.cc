@@ -13,6 +13,7 @@
 #include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "services/core/objective_catalog.h"
 
 namespace gaitforge::cli {
 
@@ -69,6 +70,16 @@ std::vector<std::string> Concat(std::vector<std::string> a, const std::vector<st
   return a;
 }
 
+// The model file's timestep, as the objective catalog states it (timestep_ms's default,
+// which the worker takes from caterpillar.yaml).
+double ModelTimestepS(const std::string& objective) {
+  if (const core::ObjectiveInfo* info = core::FindObjective(objective)) {
+    for (const auto& p : info->params)
+      if (p.name == "timestep_ms") return p.default_value * 1e-3;
+  }
+  return 1e-3;
+}
+
 // The gait's distance per cycle (mean of 10 cycles) at its own period, at `timestep_s`,
 // as a JSON object; empty on failure.
 std::string TimestepCheck(const std::string& sim, const std::string& genes,
@@ -99,7 +110,7 @@ int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& stud
   const v1::ObjectiveSpec& objective = study.spec().objective();
   double timestep_s = 0;
   const std::vector<std::string> model = StudyModelFlags(objective, &timestep_s);
-  if (timestep_s == 0) timestep_s = 1e-3;  // caterpillar.yaml's simulation.timestep_s
+  if (timestep_s == 0) timestep_s = ModelTimestepS(objective.name());
   std::string json = "{\n\"study_id\": \"" + id + "\",\n\"gaits\": [";
   int n = 0;
   for (const auto& e : hof->entries()) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gmock/gmock.h"
+#include "services/core/objective_catalog.h"
 #include "tests/unit/caterpillar/test_helpers.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/caterpillar_objective.h"
@@ -78,6 +79,21 @@ TEST(CaterpillarDivergence, UnstableParametersGiveInvalidResult) {
   EXPECT_THAT(e.reason, HasSubstr("h*omega_max"));
   // The next evaluation in this thread is unaffected.
   EXPECT_TRUE(EvaluateGait(Params(), *Gait::FromGenes(TravellingWaveGenes(0.8))).valid);
+}
+
+// The objective catalog states the model file's defaults (the spec validator and the
+// report's timestep check read them there); they must be caterpillar.yaml's.
+TEST(CaterpillarEvaluation, CatalogDefaultsAreTheModelFiles) {
+  const auto& sim = Params().simulation;
+  for (const char* objective : {"caterpillar.distance", "caterpillar.calibration"}) {
+    const core::ObjectiveInfo* info = core::FindObjective(objective);
+    ASSERT_NE(info, nullptr) << objective;
+    for (const auto& p : info->params) {
+      if (p.name == "timestep_ms") EXPECT_DOUBLE_EQ(p.default_value * 1e-3, sim.timestep_s);
+      if (p.name == "settle_cycles") EXPECT_EQ(p.default_value, sim.settle_cycles);
+      if (p.name == "cycles") EXPECT_EQ(p.default_value, sim.measured_cycles);
+    }
+  }
 }
 
 TEST(CaterpillarEvaluation, MetricsAreConsistent) {
