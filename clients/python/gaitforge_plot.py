@@ -101,7 +101,7 @@ def period_sweep(report, out):
                 r = c["result"][0] if c["result"] else None
                 if not r or not r["valid"]:
                     continue
-                m, name = marks.get(round(c["timestep_s"] / h, 3), ("x", f"h = {c['timestep_s']:g} s"))
+                m = marks.get(round(c["timestep_s"] / h, 3), ("x", ""))[0]
                 ax.plot([1.0], [100 * r["distance_per_cycle_m"]], ls="none", marker=m, ms=7,
                         mfc="none", color=line.get_color())
     for m, name in marks.values():

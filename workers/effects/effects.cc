@@ -104,11 +104,12 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Piston seal friction: each actuator moves only while the other forces along it "
        "(push, return spring, the body) exceed a band of +-F; inside it the piston holds "
        "(paper 001: servo deadband; for on/off pistons, stiction of the seals). Coulomb "
-       "friction along the actuator line, implicit. Above the return spring's force at full "
-       "stroke (63 N/m x 11 mm = 0.7 N) a switched-off actuator no longer returns fully.",
+       "friction along the actuator line, implicit. A switched-off actuator returns only until "
+       "the restoring force of its return spring and the links falls to F (on a free pair of "
+       "lumps 1.9 mm short of rest at 1 N).",
        {{"effect.actuator_deadband_n", 0, 3, 0, "N"}},
        "Strokes that start late and stop short of the stops, lengths that stay put after a "
-       "switch (a plateau before the return), the return incomplete when F passes 0.7 N; "
+       "switch (a plateau before the return), the return incomplete; "
        "less travel for every gait, most for short ON windows.",
        "Pull one idle actuator apart with a force gauge: the force at which it starts to "
        "move is F (a lag or a weak push needs no force to move it); or switch it off at full "

@@ -167,13 +167,11 @@ void CaterpillarSim::AddActuatorDeadband(const ActuatorGeometry& act, const Vec3
   c.geom.pos[0] = 0.5 * (r.x + f.x);
   c.geom.pos[1] = 0.5 * (r.y + f.y);
   c.geom.pos[2] = 0.5 * (r.z + f.z);
-  c.geom.normal[0] = -uz;  // u turned a quarter about y: across the line, in the plane
-  c.geom.normal[1] = 0;
-  c.geom.normal[2] = ux;
   const double n = std::hypot(ux, uz);
   if (n < 1e-9) return;  // a line along y cannot happen in the planar robot
-  c.geom.normal[0] /= n;
-  c.geom.normal[2] /= n;
+  c.geom.normal[0] = -uz / n;  // u turned a quarter about y: across the line, in the plane
+  c.geom.normal[1] = 0;
+  c.geom.normal[2] = ux / n;
   c.geom.depth = 0;
   c.fdir1[0] = ux;
   c.fdir1[1] = uy;
