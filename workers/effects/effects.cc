@@ -154,16 +154,23 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Load-extension curve of one flexure to several millimetres: linear springs give a "
        "straight line, softening bends it (sigma from its curvature)."},
       {"model.resolution",
-       "Model resolution",
-       "Six lumps stand for a continuum body (paper 000: the \"highly approximate\" "
-       "six-component model); a finer build of the same robot disagreed with the six-lump "
-       "one by up to 1.2 cm per cycle, sometimes in sign (../shared/robots/caterpillar.md). "
-       "No parameter expresses it: not available as a fitted effect in this build.",
-       {},
-       "Residuals that no other effect explains consistently: differing in sign between "
-       "gaits, largest for gaits that bend the body most or hop.",
-       "Compare the six-lump model with a finer lumped model or an FEA model on the same "
-       "gaits; the difference, not the hardware, then bounds what fitting can achieve."},
+       "Model resolution (deformable lumps)",
+       "Six rigid lumps stand for a continuum body (paper 000's second suspect: the \"highly "
+       "approximate\" six-component model); a finer build of the same robot disagreed with "
+       "the six-lump one by up to 1.2 cm per cycle, sometimes in sign "
+       "(../shared/robots/caterpillar.md). The next finer model: each lump two half-lumps "
+       "joined at its centre by the silicone block between them (axial E A / l, bending "
+       "E I / l, damped like the links), twelve bodies in all; the parameter is the blocks' "
+       "compliance 1/E. 0 is the rigid six-lump model; the paper's silicone (435 kPa) is "
+       "2.3 /MPa. Blocks stiffer than the timestep resolves stay rigid (at 1 ms: below about "
+       "1.4 /MPa), so the range is not continuous there.",
+       {{"effect.lump_compliance_per_mpa", 0, 25, 0, "1/MPa"}},
+       "Residuals that differ in sign between gaits and that no external force explains: "
+       "strokes that move the lump centres less than simulated, lower hops, the shape of the "
+       "body's bending wave off; largest for gaits that bend the body most or hop.",
+       "Film one lump during a stroke (its front and rear faces separately), or compare with "
+       "a finer lumped or FEA model on the same gaits: deformable lumps show as faces of one "
+       "lump moving apart, an external force does not deform a lump."},
   };
   return catalog;
 }

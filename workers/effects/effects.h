@@ -12,7 +12,6 @@
 //   tether.constant tether.growing ground.slope friction.viscous friction.anisotropic
 //   actuator.lag actuator.delay actuator.force_scale actuator.deadband contact.softness mass.offset
 //   stiffness.scale spring.softening model.resolution
-// model.resolution has no parameters: not available as a fitted effect in this build.
 #include <string>
 #include <string_view>
 #include <vector>

@@ -13,6 +13,13 @@
 //           each step from the lumps' relative pitch.
 // Nothing acts across the x-z plane and no force has a y component, so y, roll and yaw stay
 // exactly zero: lateral and twist are rigid without constraint rows.
+//
+// The model's resolution (params.effects.lump_compliance_per_mpa > 0): each lump is two
+// half-lumps, rear and front, joined at the lump's centre by a link of the same three rows
+// whose springs are the silicone block between the halves' centres. A lump's position and
+// velocity are then the mean of its halves', its pitch their mean pitch, its marker sits on
+// the rear half at the junction, and an actuator attaches to the half that holds its point.
+// Links between lumps join the front half of one to the rear half of the next.
 #include <ode/ode.h>
 
 #include <array>
@@ -51,11 +58,22 @@ class CaterpillarBody {
   CaterpillarBody(const CaterpillarBody&) = delete;
   CaterpillarBody& operator=(const CaterpillarBody&) = delete;
 
-  int lump_count() const { return static_cast<int>(lumps_.size()); }
-  // k = 0 .. lump_count()-1 indexes the built lumps (lump first_lump + k).
-  dBodyID lump(int k) const { return lumps_[k]; }
-  dGeomID geom(int k) const { return geoms_[k]; }
+  int lump_count() const { return static_cast<int>(bodies_.size()) / parts_; }
+  // k = 0 .. lump_count()-1 indexes the built lumps (lump first_lump + k); lump(k) is its
+  // body, its rear half when the lumps are split.
+  dBodyID lump(int k) const { return bodies_[parts_ * k]; }
+  // Every ODE body, rear to front (lump_count() of them, or twice that when split), their
+  // box geoms, and the share of a lump's mass and length each holds.
+  int body_count() const { return static_cast<int>(bodies_.size()); }
+  dBodyID body(int i) const { return bodies_[i]; }
+  dGeomID geom(int i) const { return geoms_[i]; }
+  int parts_per_lump() const { return parts_; }
+  double body_size_x() const { return params_.lumps.size_x_m / parts_; }
+  // Adds a force at lump k's centre (split between its halves).
+  void AddLumpForce(int k, double fx, double fy, double fz) const;
   int link_count() const { return static_cast<int>(links_.size()); }
+  // Link k's axial spring-damper row (a DBall; its ERP carries the spring).
+  dJointID axial_joint(int k) const { return links_[k].axial; }
   const std::vector<ActuatorGeometry>& actuators() const { return actuators_; }
 
   Vec3 Position(int k) const;
@@ -78,7 +96,7 @@ class CaterpillarBody {
   double KineticEnergy() const;
   double PotentialEnergy(double gravity) const;
 
-  // Largest h*omega over the link modes (two-lump reduced mass/inertia). The spring
+  // Largest h*omega over the link modes (two-body reduced mass/inertia; inner links too). The spring
   // integration is stable while (h omega)^2 < 4 + 4 zeta h omega: about 0.26 at the
   // canonical 1 ms, so a diverging run with a large value points at the timestep.
   double MaxStepOmega(double timestep_s) const { return timestep_s * max_omega_; }
@@ -89,13 +107,22 @@ class CaterpillarBody {
  private:
   const CaterpillarParams params_;
   const BuildOptions options_;
-  std::vector<dBodyID> lumps_;
-  std::vector<dGeomID> geoms_;
   struct Link {
     dJointID shear, axial, bend;
+    dBodyID rear, front;
+    double axial_k, bending_k;
   };
-  std::vector<Link> links_;
-  std::vector<double> link_axial_k_, link_bending_k_;
+  // Builds a link between rear and front anchored at x = anchor_x (world, at rest); the
+  // axial row runs from the rear body's centre at rear_x to the anchor on the front body.
+  Link MakeLink(dWorldID world, dBodyID rear, dBodyID front, double anchor_x, double rear_x,
+                const LinkStiffness& k, double c_axial, double c_bend, double h) const;
+  double BodyPitch(dBodyID b) const;
+
+  int parts_ = 1;                  // bodies per lump: 1, or 2 when split
+  std::vector<dBodyID> bodies_;
+  std::vector<dGeomID> geoms_;
+  std::vector<Link> links_;        // between lumps, rear to front
+  std::vector<Link> inner_links_;  // inside split lumps
   std::vector<ActuatorGeometry> actuators_;
   double max_omega_ = 0;
 };

@@ -90,6 +90,14 @@ struct CaterpillarParams {
     // step through the links' ERP from the extension at the start of the step (the
     // damping stays c). 1/m, >= 0.
     double spring_softening = 0;
+    // The model's resolution: compliance 1/E of the lumps' own material (1/MPa). Above 0
+    // each lump is built as two half-lumps (half the length and mass) joined at its centre
+    // by a link of the silicone block between their centres, axial E A / l and bending
+    // E I / l (A, I of the lump's y-z section, l half its length), damped at the links'
+    // ratios of critical: twelve deformable bodies instead of six rigid ones. A lump
+    // stiffer than the timestep resolves (h omega > 2.5 for its inner link) stays rigid.
+    // 1/MPa, >= 0 (0 = rigid lumps, the paper's model).
+    double lump_compliance_per_mpa = 0;
   } effects;
 
   // Actuator length at the rest pose: spacing + front_attach_x - rear_attach_x.

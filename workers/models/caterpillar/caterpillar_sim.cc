@@ -39,6 +39,10 @@ CaterpillarSim::CaterpillarSim(const CaterpillarParams& params, const BuildOptio
   dWorldSetCFM(world_.world(), params.simulation.solver_cfm);
   body_ = std::make_unique<CaterpillarBody>(world_.world(), world_.space(), params, options, h_);
   for (int k = 0; k < body_->lump_count(); ++k) start_.push_back(body_->Position(k));
+  for (int i = 0; i < body_->body_count(); ++i) {
+    const dReal* p = dBodyGetPosition(body_->body(i));
+    body_start_.push_back({p[0], p[1], p[2]});
+  }
   MeasureLengths();
 
   if (e.actuator_lag_s != 0 || e.actuator_delay_s != 0) {
@@ -53,22 +57,8 @@ CaterpillarSim::CaterpillarSim(const CaterpillarParams& params, const BuildOptio
     }
   }
   if (e.spring_softening != 0) {
-    // The axial spring of link k is the DBall between lump(k) and lump(k+1) with the short
-    // rest distance (the shear row's is about 1 m).
     for (int k = 0; k < body_->link_count(); ++k) {
-      dBodyID rear = body_->lump(k), front = body_->lump(k + 1);
-      dJointID axial = nullptr;
-      for (int i = 0; i < dBodyGetNumJoints(rear); ++i) {
-        dJointID j = dBodyGetJoint(rear, i);
-        if (dJointGetType(j) != dJointTypeDBall || dJointGetBody(j, 0) != rear ||
-            dJointGetBody(j, 1) != front) {
-          continue;
-        }
-        if (axial == nullptr || dJointGetDBallDistance(j) < dJointGetDBallDistance(axial)) {
-          axial = j;
-        }
-      }
-      if (axial == nullptr) throw std::logic_error("CaterpillarSim: link without axial spring");
+      dJointID axial = body_->axial_joint(k);
       axial_joints_.push_back(axial);
       axial_erp_.push_back(dJointGetDBallParam(axial, dParamERP));
     }
@@ -97,7 +87,8 @@ void CaterpillarSim::MeasureLengths() {
 // lag, exact for a command held over the step: p <- c + (p - c) exp(-h / tau).
 void CaterpillarSim::ApplyActuators(uint32_t on_mask) {
   const auto& a = params_.actuators;
-  const double margin = h_ * h_ * 2 * a.force_n / params_.lumps.mass_kg;
+  const double margin =
+      h_ * h_ * 2 * a.force_n / (params_.lumps.mass_kg / body_->parts_per_lump());
   if (shaped_push_) {
     mask_history_.push_back(on_mask);
     while (static_cast<int>(mask_history_.size()) > delay_steps_ + 2) mask_history_.pop_front();
@@ -198,17 +189,18 @@ void CaterpillarSim::ApplyEffects() {
   const auto& e = params_.effects;
   if ((e.tether_force_n != 0 || e.tether_stiffness_n_per_m != 0) &&
       body_->options().first_lump == 1) {
-    dBodyID rear = body_->lump(0);
     double pull = e.tether_force_n;
     if (e.tether_stiffness_n_per_m != 0) {
       pull += e.tether_stiffness_n_per_m * std::max(0.0, body_->Position(0).x - start_[0].x);
     }
-    dBodyAddForce(rear, -pull, 0, 0);
+    body_->AddLumpForce(0, -pull, 0, 0);
   }
   if (e.drag_n_s_per_m != 0) {
-    for (int k = 0; k < body_->lump_count(); ++k) {
-      const dReal* v = dBodyGetLinearVel(body_->lump(k));
-      dBodyAddForce(body_->lump(k), -e.drag_n_s_per_m * v[0], 0, -e.drag_n_s_per_m * v[2]);
+    // Per body: a split lump's halves share its coefficient.
+    const double c = e.drag_n_s_per_m / body_->parts_per_lump();
+    for (int i = 0; i < body_->body_count(); ++i) {
+      const dReal* v = dBodyGetLinearVel(body_->body(i));
+      dBodyAddForce(body_->body(i), -c * v[0], 0, -c * v[2]);
     }
   }
   if (e.spring_softening != 0) {
@@ -249,8 +241,9 @@ void CaterpillarSim::AddGroundContacts() {
   c.surface.soft_cfm = g.contact_cfm;
   c.geom.normal[2] = 1;
   c.fdir1[0] = 1;
-  for (int k = 0; k < body_->lump_count(); ++k) {
-    dBodyID b = body_->lump(k);
+  const double size_x = body_->body_size_x();
+  for (int k = 0; k < body_->body_count(); ++k) {
+    dBodyID b = body_->body(k);
     double lump_mu = g.infinite_friction ? dInfinity : g.friction_coefficient;
     bool every_corner = false;
     if (anisotropic) {
@@ -263,7 +256,7 @@ void CaterpillarSim::AddGroundContacts() {
     dVector3 corners[4];
     int deepest = -1;
     for (int corner = 0; corner < 4; ++corner) {
-      const double cx = (corner & 1 ? 0.5 : -0.5) * L.size_x_m;
+      const double cx = (corner & 1 ? 0.5 : -0.5) * size_x;
       const double cz = (corner & 2 ? 0.5 : -0.5) * L.size_z_m;
       dBodyGetRelPointPos(b, cx, 0, cz, corners[corner]);
       if (corners[corner][2] <= 0 && (deepest < 0 || corners[corner][2] < corners[deepest][2])) {
@@ -289,12 +282,14 @@ void CaterpillarSim::AddGroundContacts() {
 // centres are farther apart than a box diagonal cannot touch and are skipped.
 void CaterpillarSim::AddLumpContacts() {
   const auto& L = params_.lumps;
-  const double reach2 = L.size_x_m * L.size_x_m + L.size_y_m * L.size_y_m + L.size_z_m * L.size_z_m;
-  const int n = body_->lump_count();
+  const double x = body_->body_size_x();
+  const double reach2 = x * x + L.size_y_m * L.size_y_m + L.size_z_m * L.size_z_m;
+  const int n = body_->body_count();
   for (int i = 0; i < n; ++i) {
     for (int j = i + 2; j < n; ++j) {
-      const Vec3 a = body_->Position(i), b = body_->Position(j);
-      const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+      const dReal* a = dBodyGetPosition(body_->body(i));
+      const dReal* b = dBodyGetPosition(body_->body(j));
+      const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
       if (dx * dx + dy * dy + dz * dz > reach2) continue;
       dContactGeom geoms[8];
       const int count = dCollide(body_->geom(i), body_->geom(j), 8, geoms, sizeof(dContactGeom));
@@ -308,8 +303,8 @@ void CaterpillarSim::AddLumpContacts() {
         if (len < 1e-6) continue;
         c.geom.normal[0] /= len;
         c.geom.normal[2] /= len;
-        dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), body_->lump(i),
-                     body_->lump(j));
+        dJointAttach(dJointCreateContact(world_.world(), world_.contacts(), &c), body_->body(i),
+                     body_->body(j));
       }
     }
   }
@@ -354,11 +349,11 @@ sim::SimOutcome CaterpillarSim::CheckState() {
     return sim::SimOutcome::Failed(out.str());
   };
   const double max_spin = 2 * s.max_speed_m_per_s / params_.lumps.size_x_m;
-  for (int k = 0; k < body_->lump_count(); ++k) {
-    const int lump = body_->options().first_lump + k;
-    const dReal* p = dBodyGetPosition(body_->lump(k));
-    const dReal* v = dBodyGetLinearVel(body_->lump(k));
-    const dReal* w = dBodyGetAngularVel(body_->lump(k));
+  for (int k = 0; k < body_->body_count(); ++k) {
+    const int lump = body_->options().first_lump + k / body_->parts_per_lump();
+    const dReal* p = dBodyGetPosition(body_->body(k));
+    const dReal* v = dBodyGetLinearVel(body_->body(k));
+    const dReal* w = dBodyGetAngularVel(body_->body(k));
     for (int i = 0; i < 3; ++i) {
       if (!std::isfinite(p[i]) || !std::isfinite(v[i]) || !std::isfinite(w[i])) {
         return fail("non-finite state of lump " + std::to_string(lump));
@@ -366,7 +361,8 @@ sim::SimOutcome CaterpillarSim::CheckState() {
     }
     const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     const double spin = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    const double dx = p[0] - start_[k].x, dy = p[1] - start_[k].y, dz = p[2] - start_[k].z;
+    const Vec3& s0 = body_start_[k];
+    const double dx = p[0] - s0.x, dy = p[1] - s0.y, dz = p[2] - s0.z;
     if (speed > s.max_speed_m_per_s) {
       return fail("lump " + std::to_string(lump) + " speed " + std::to_string(speed) + " m/s");
     }

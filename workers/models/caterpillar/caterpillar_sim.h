@@ -60,7 +60,8 @@ class CaterpillarSim {
   int ground_contacts_ = 0;
   double last_work_ = 0;
   std::vector<double> lengths_;
-  std::vector<Vec3> start_;
+  std::vector<Vec3> start_;       // lump centres at the start
+  std::vector<Vec3> body_start_;  // every body's centre at the start
 
   // Effects state (params.effects).
   bool shaped_push_ = false;              // actuator lag or delay is on

@@ -52,6 +52,7 @@ const std::vector<Field>& Fields() {
       {"effect.actuator_delay_s", "s", 0, 0.2, GF_REF(effects.actuator_delay_s)},
       {"effect.actuator_deadband_n", "N", 0, 20, GF_REF(effects.actuator_deadband_n)},
       {"effect.spring_softening", "1/m", 0, 1000, GF_REF(effects.spring_softening)},
+      {"effect.lump_compliance_per_mpa", "1/MPa", 0, 100, GF_REF(effects.lump_compliance_per_mpa)},
   };
   return fields;
 }
