@@ -75,6 +75,7 @@ CASES = [
     ("slope-up", "ground.slope", {"effect.slope_rad": 0.15}, 103),
     ("drag", "friction.viscous", {"effect.drag_n_s_per_m": 1.0}, 104),
     ("deadband", "actuator.deadband", {"effect.actuator_deadband_n": 1.0}, 107),
+    ("soft-lumps", "model.resolution", {"effect.lump_compliance_per_mpa": 5.0}, 108),
     ("null-a", "none", {}, 105),
     ("null-b", "none", {}, 106),
 ]

@@ -40,6 +40,10 @@ CASES = [
     # band F (taken as 1.0 N, between the two).
     ("foreign-seal", {"seal_n": 0.8, "seal_break_n": 1.2}, "actuator.deadband",
      ["actuator.deadband"], {"effect.actuator_deadband_n": 1.0}, 208),
+    # Lumps of a softer silicone, 150 kPa instead of the rig's 435 (shear included): the
+    # library's half-lumps have the same beam without shear, compliance 1/E = 6.7 /MPa.
+    ("foreign-soft", {"lump_modulus_pa": 150e3}, "model.resolution", ["model.resolution"],
+     {"effect.lump_compliance_per_mpa": 1 / 0.15}, 209),
 ]
 
 

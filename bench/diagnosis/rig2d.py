@@ -17,7 +17,8 @@ What differs from workers/models/caterpillar, on purpose:
 Effects are written in forms of their own (EFFECTS below), not the library's: a hose that
 pulls the rear lump backwards and 30 degrees upwards, growing with distance; quadratic drag;
 a first-order lag on the actuators' force; a tilted gravity; seal friction of the pistons
-with a breakaway force above the sliding one (Stribeck form, smoothed through zero speed).
+with a breakaway force above the sliding one (Stribeck form, smoothed through zero speed);
+a softer silicone in the lumps (lump_modulus_pa: the inner beam elements' modulus).
 
 Vectorised over a batch of runs that share one gait (numpy). Output: the recording CSV of
 docs/recording-format.md (t, m1.x, m1.y, m1.z, ..., m6.z) from the end of the settle cycles.
@@ -115,6 +116,8 @@ _BT = _Table([s.r for s in BUSHINGS], [s.pr for s in BUSHINGS], [s.f for s in BU
              [s.pf for s in BUSHINGS])
 for _name in ("k_ax", "k_sh", "kappa", "c_ax", "c_sh", "c_b"):
     setattr(_BT, _name, np.array([getattr(s, _name) for s in BUSHINGS]))
+# The beam elements inside lumps (the first 6 * (SUB - 1) bushings), which a run may soften.
+_INNER = np.arange(len(BUSHINGS)) < 6 * (SUB - 1)
 _AT = _Table([a[0] for a in ACTUATORS], [a[1] for a in ACTUATORS], [a[2] for a in ACTUATORS],
              [a[3] for a in ACTUATORS])
 
@@ -147,6 +150,11 @@ class Rig:
         self.t = 0.0
         slope = np.array([e.get("slope_rad", 0.0) for e in effects])
         self.gx, self.gz = -G * np.sin(slope), -G * np.cos(slope)
+        # The lumps' own silicone: its modulus per run (lump_modulus_pa) scales the inner beam
+        # elements' springs, and their critical damping with the square root.
+        scale = np.array([e.get("lump_modulus_pa", E_SILICONE) / E_SILICONE for e in effects])
+        self.kscale = np.where(_INNER[None, :], scale[:, None], 1.0)
+        self.cscale = np.sqrt(self.kscale)
 
     def on(self, t):
         phase = (t % self.period) / self.period
@@ -187,10 +195,12 @@ class Rig:
         ax, az = np.cos(thm), -np.sin(thm)        # body x axis in the x-z plane
         nx, nz = -az, ax                          # body z axis
         dx, dz, dvx, dvz = qx - rx, qz - rz, qvx - rvx, qvz - rvz
-        f_ax = -(T.k_ax * (dx * ax + dz * az) + T.c_ax * (dvx * ax + dvz * az))
-        f_sh = -(T.k_sh * (dx * nx + dz * nz) + T.c_sh * (dvx * nx + dvz * nz))
+        ks, cs = self.kscale, self.cscale
+        f_ax = -(ks * T.k_ax * (dx * ax + dz * az) + cs * T.c_ax * (dvx * ax + dvz * az))
+        f_sh = -(ks * T.k_sh * (dx * nx + dz * nz) + cs * T.c_sh * (dvx * nx + dvz * nz))
         gx, gz = f_ax * ax + f_sh * nx, f_ax * az + f_sh * nz
-        bend = -(T.kappa * (self.th[:, T.f] - self.th[:, T.r]) + T.c_b * (self.w[:, T.f] - self.w[:, T.r]))
+        bend = -(ks * T.kappa * (self.th[:, T.f] - self.th[:, T.r])
+                 + cs * T.c_b * (self.w[:, T.f] - self.w[:, T.r]))
         self._scatter(fx, fz, tq, T, gx, gz, fox, foz, rox, roz, bend)
         on = self.on(self.t).astype(float)
         tau = np.array([e.get("actuator_lag_s", 0.0) for e in self.eff])
