@@ -212,10 +212,11 @@ void CaterpillarSim::ApplyEffects() {
   }
 }
 
-// The ground z = 0 touches the corners of each lump's x-z section (the bottom face's front
-// and rear edges when flat; any corner after a flip). Motion is planar, so one contact per
-// edge on the centre plane stands for the box's two corners. Infinite friction (paper) is an
-// unbounded row along x; a lump needs one (on its deepest corner), since the friction rows
+// The ground z = 0 touches the corners of each body's x-z section (a lump, or a half-lump
+// when split): the bottom face's front and rear edges when flat, any corner after a flip.
+// Motion is planar, so one contact per edge on the centre plane stands for the box's two
+// corners. Infinite friction (paper) is an unbounded row along x; a body needs one (on its
+// deepest corner), since the friction rows
 // of two corners on one face would be the same row twice. None is needed across the plane.
 // Anisotropic friction (effects.friction_forward/backward): the coefficient of the lump's
 // direction of motion at the start of the step, finite (dContactApprox1: each row bounded
@@ -277,9 +278,10 @@ void CaterpillarSim::AddGroundContacts() {
   }
 }
 
-// Lumps that are not neighbours may touch when the body folds; neighbours always overlap at
-// the link and must not collide (unfiltered, they made the no-slip feet slide). Pairs whose
-// centres are farther apart than a box diagonal cannot touch and are skipped.
+// Bodies (lumps or half-lumps) that are not neighbours may touch when the body folds;
+// neighbours always overlap at the link and must not collide (unfiltered, they made the
+// no-slip feet slide). Pairs whose centres are farther apart than a box diagonal cannot
+// touch and are skipped.
 void CaterpillarSim::AddLumpContacts() {
   const auto& L = params_.lumps;
   const double x = body_->body_size_x();

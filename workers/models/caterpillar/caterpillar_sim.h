@@ -1,8 +1,8 @@
 #pragma once
 // Steps the caterpillar: per step, actuator forces (ON push plus return spring), stroke
 // stops, ground and lump-lump contacts, the candidate effects of params.effects (tether,
-// drag, slope, anisotropic friction, actuator lag, delay and deadband, softening springs; all OFF at
-// zero), one dWorldStep, then a divergence check.
+// drag, slope, anisotropic friction, actuator lag, delay and deadband, softening springs,
+// deformable half-lumps; all OFF at zero), one dWorldStep, then a divergence check.
 #include <cstdint>
 #include <deque>
 #include <memory>
