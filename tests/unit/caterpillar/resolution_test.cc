@@ -3,6 +3,7 @@
 // the robot's geometry and mass, deform as a beam of modulus E = 1/compliance, stay rigid
 // where the timestep cannot resolve the block, and change how the robot walks.
 #include <cmath>
+#include <vector>
 
 #include "tests/unit/caterpillar/test_helpers.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
@@ -21,6 +22,10 @@ CaterpillarParams Split(double compliance_per_mpa) {
 
 // The paper's silicone, 435 kPa.
 constexpr double kPaperCompliance = 1 / 0.435;
+
+// A hand-made gait (T = 0.7 s) that moves every actuator.
+const std::vector<double> kGenes = {0.05, 0.35, 0.65, 0.5,  0.8, 0.1, 0.3,
+                                    0.6,  0.9,  0.75, 0.05, 0.4, 0.7};
 
 TEST(CaterpillarResolution, SplitKeepsGeometryMassAndMarkers) {
   CaterpillarSim rigid(Params());
@@ -111,13 +116,11 @@ TEST(CaterpillarResolution, StiffLumpsStayRigidUnlessTheTimestepResolvesThem) {
   EXPECT_EQ(at_1ms.body().parts_per_lump(), 1);
   EXPECT_EQ(at_quarter.body().parts_per_lump(), 2);
 
-  const std::vector<double> genes = {0.05, 0.35, 0.65, 0.5, 0.8, 0.1, 0.3,
-                                     0.6,  0.9,  0.75, 0.05, 0.4, 0.7};
   EvalOptions o;
   o.settle_cycles = 1;
   o.measured_cycles = 2;
-  const auto rigid = EvaluateGait(Params(), *Gait::FromGenes(genes), o);
-  const auto same = EvaluateGait(stiff, *Gait::FromGenes(genes), o);
+  const auto rigid = EvaluateGait(Params(), *Gait::FromGenes(kGenes), o);
+  const auto same = EvaluateGait(stiff, *Gait::FromGenes(kGenes), o);
   ASSERT_TRUE(rigid.valid && same.valid);
   EXPECT_EQ(rigid.distance_per_cycle_m, same.distance_per_cycle_m);
 }
@@ -126,15 +129,13 @@ TEST(CaterpillarResolution, StiffLumpsStayRigidUnlessTheTimestepResolvesThem) {
 // by the blocks. Judged on strokes, not travel (travel is chaotic in numerical changes).
 // Also: the split model stays valid over the timesteps the gap finder's ensemble uses.
 TEST(CaterpillarResolution, SoftLumpsTakeUpPartOfTheStroke) {
-  const std::vector<double> genes = {0.05, 0.35, 0.65, 0.5, 0.8, 0.1, 0.3,
-                                     0.6,  0.9,  0.75, 0.05, 0.4, 0.7};
   EvalOptions o;
   o.settle_cycles = 1;
   o.measured_cycles = 3;
   for (double h : {0.5e-3, 0.75e-3, 1e-3, 1.25e-3}) {
     o.timestep_s = h;
     for (double c : {kPaperCompliance, 25.0}) {
-      const auto e = EvaluateGait(Split(c), *Gait::FromGenes(genes), o);
+      const auto e = EvaluateGait(Split(c), *Gait::FromGenes(kGenes), o);
       EXPECT_TRUE(e.valid) << "h " << h << ", compliance " << c << ": " << e.reason;
     }
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace gaitforge::caterpillar {
 namespace {
@@ -35,6 +36,21 @@ LinkStiffness InnerStiffness(const CaterpillarParams::Lumps& L, double modulus_p
 
 // Largest h*omega of a split lump's inner link; past kMaxInnerStepOmega the lump is rigid.
 constexpr double kMaxInnerStepOmega = 2.5;
+
+// Rotation of a body about +y (rad); +pitch turns +x towards -z (nose down).
+double BodyPitch(dBodyID b) {
+  const dReal* r = dBodyGetRotation(b);  // 3x4 row-major; column 0 is body x
+  return std::atan2(-r[8], r[0]);
+}
+
+double AxialExtension(dJointID axial) {
+  dVector3 a1, a2;
+  dJointGetDBallAnchor1(axial, a1);
+  dJointGetDBallAnchor2(axial, a2);
+  return std::sqrt((a2[0] - a1[0]) * (a2[0] - a1[0]) + (a2[1] - a1[1]) * (a2[1] - a1[1]) +
+                   (a2[2] - a1[2]) * (a2[2] - a1[2])) -
+         dJointGetDBallDistance(axial);
+}
 
 }  // namespace
 
@@ -184,11 +200,6 @@ Vec3 CaterpillarBody::Velocity(int k) const {
   return {(r.x + f.x) / 2, (r.y + f.y) / 2, (r.z + f.z) / 2};
 }
 
-double CaterpillarBody::BodyPitch(dBodyID b) const {
-  const dReal* r = dBodyGetRotation(b);  // 3x4 row-major; column 0 is body x
-  return std::atan2(-r[8], r[0]);
-}
-
 double CaterpillarBody::Pitch(int k) const {
   if (parts_ == 1) return BodyPitch(bodies_[k]);
   const double rear = BodyPitch(bodies_[2 * k]);
@@ -216,24 +227,17 @@ void CaterpillarBody::ActuatorState(const ActuatorGeometry& a, Vec3& rear, Vec3&
   front = FromOde(pf);
 }
 
-double CaterpillarBody::LinkBend(int k) const {
-  return std::remainder(BodyPitch(links_[k].front) - BodyPitch(links_[k].rear), 2 * M_PI);
+double CaterpillarBody::Bend(const Link& l) {
+  return std::remainder(BodyPitch(l.front) - BodyPitch(l.rear), 2 * M_PI);
 }
+
+double CaterpillarBody::LinkBend(int k) const { return Bend(links_[k]); }
 
 // ODE's limit row is J = [axis, -axis] on (rear, front) angular velocity, so the angle it
 // expects grows with the rear body's rotation relative to the front: minus the bend.
 void CaterpillarBody::UpdateLinkAngles() {
-  double pitch[12];
-  for (int i = 0; i < body_count(); ++i) pitch[i] = BodyPitch(bodies_[i]);
-  for (int k = 0; k < link_count(); ++k) {
-    const int rear = parts_ * k + parts_ - 1, front = rear + 1;
-    dJointSetAMotorAngle(links_[k].bend, 0, -std::remainder(pitch[front] - pitch[rear], 2 * M_PI));
-  }
-  for (size_t k = 0; k < inner_links_.size(); ++k) {
-    const int rear = 2 * static_cast<int>(k), front = rear + 1;
-    dJointSetAMotorAngle(inner_links_[k].bend, 0,
-                         -std::remainder(pitch[front] - pitch[rear], 2 * M_PI));
-  }
+  for (const Link& l : links_) dJointSetAMotorAngle(l.bend, 0, -Bend(l));
+  for (const Link& l : inner_links_) dJointSetAMotorAngle(l.bend, 0, -Bend(l));
 }
 
 double CaterpillarBody::KineticEnergy() const {
@@ -253,17 +257,6 @@ double CaterpillarBody::KineticEnergy() const {
   return e;
 }
 
-namespace {
-double AxialExtension(dJointID axial) {
-  dVector3 a1, a2;
-  dJointGetDBallAnchor1(axial, a1);
-  dJointGetDBallAnchor2(axial, a2);
-  return std::sqrt((a2[0] - a1[0]) * (a2[0] - a1[0]) + (a2[1] - a1[1]) * (a2[1] - a1[1]) +
-                   (a2[2] - a1[2]) * (a2[2] - a1[2])) -
-         dJointGetDBallDistance(axial);
-}
-}  // namespace
-
 double CaterpillarBody::LinkExtension(int k) const { return AxialExtension(links_[k].axial); }
 
 double CaterpillarBody::PotentialEnergy(double gravity) const {
@@ -273,15 +266,11 @@ double CaterpillarBody::PotentialEnergy(double gravity) const {
     dBodyGetMass(b, &m);
     e += m.mass * gravity * dBodyGetPosition(b)[2];
   }
-  for (int k = 0; k < link_count(); ++k) {
-    const double x = LinkExtension(k), th = LinkBend(k);
-    e += 0.5 * links_[k].axial_k * x * x + 0.5 * links_[k].bending_k * th * th;
-  }
-  for (size_t k = 0; k < inner_links_.size(); ++k) {
-    const Link& l = inner_links_[k];
-    const double x = AxialExtension(l.axial);
-    const double th = std::remainder(BodyPitch(l.front) - BodyPitch(l.rear), 2 * M_PI);
-    e += 0.5 * l.axial_k * x * x + 0.5 * l.bending_k * th * th;
+  for (const auto* links : {&links_, &inner_links_}) {
+    for (const Link& l : *links) {
+      const double x = AxialExtension(l.axial), th = Bend(l);
+      e += 0.5 * l.axial_k * x * x + 0.5 * l.bending_k * th * th;
+    }
   }
   for (const auto& a : actuators_) {
     Vec3 r, f;

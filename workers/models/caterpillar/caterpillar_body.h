@@ -116,7 +116,8 @@ class CaterpillarBody {
   // axial row runs from the rear body's centre at rear_x to the anchor on the front body.
   Link MakeLink(dWorldID world, dBodyID rear, dBodyID front, double anchor_x, double rear_x,
                 const LinkStiffness& k, double c_axial, double c_bend, double h) const;
-  double BodyPitch(dBodyID b) const;
+  // The bend of a link: pitch of its front body minus its rear body's (rad).
+  static double Bend(const Link& l);
 
   int parts_ = 1;                  // bodies per lump: 1, or 2 when split
   std::vector<dBodyID> bodies_;
