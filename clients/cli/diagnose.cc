@@ -102,6 +102,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
   if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
     return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
+  if (d.weighting() != "equal" && d.weighting() != "floor")
+    return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
+                                                   "' is not one of equal, floor"));
   return absl::OkStatus();
 }
 
@@ -114,6 +117,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_top()) d->set_top(3);
   if (!d->has_try_pairs()) d->set_try_pairs(true);
   if (d->error().empty()) d->set_error("shape");
+  if (d->weighting().empty()) d->set_weighting("equal");
   if (!d->has_margin()) d->set_margin(10);
   if (d->candidates_size() == 0)
     for (const auto& e : effects::EffectCatalog())
@@ -144,7 +148,8 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
 }
 
 v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
-                       const std::vector<std::string>& train, const std::vector<std::string>& held) {
+                       const std::vector<std::string>& train, const std::vector<std::string>& held,
+                       const std::string& weights) {
   v1::StudySpec s;
   s.set_name(absl::StrCat(d.name(), "-", c.label));
   s.set_seed(d.seed());
@@ -154,6 +159,7 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
   auto* o = s.mutable_objective();
   o->set_name("caterpillar.calibration");
   (*o->mutable_options())["error"] = d.error();
+  if (!weights.empty()) (*o->mutable_options())["weights"] = weights;
   for (const auto& h : train) o->add_recordings(h);
   for (const auto& h : held) o->add_held_out(h);
   for (const auto& b : c.genes) *s.add_bounds() = b;
@@ -168,12 +174,13 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
 // Creates the studies and waits for all of them; fills study_id, values, spread, train.
 int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
                int evaluations, const std::vector<std::string>& train,
-               const std::vector<std::string>& held, const GlobalOptions& g, const char* stage) {
+               const std::vector<std::string>& held, const std::string& weights,
+               const GlobalOptions& g, const char* stage) {
   for (auto* c : cands) {
     grpc::ClientContext ctx;
     SetDeadline(ctx, g.timeout_s);
     v1::CreateStudyRequest req;
-    *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held);
+    *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held, weights);
     v1::CreateStudyResponse resp;
     grpc::Status s = conn.study().CreateStudy(&ctx, req, &resp);
     if (!s.ok()) return ReportRpcError(s, absl::StrCat("diagnose: ", c->label));
@@ -229,10 +236,10 @@ std::string SetArg(const Candidate& c) {
   return absl::StrJoin(parts, ",");
 }
 
-// Mean error of calibration-eval over files with the candidate's fit; NAN on failure.
-double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
-                    const v1::DiagnosisSpec& d, const std::string& out_dir,
-                    const std::string& extra_set = "") {
+// Error of calibration-eval on each of the files with the candidate's fit; empty on failure.
+std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string>& files,
+                               const v1::DiagnosisSpec& d, const std::string& out_dir,
+                               const std::string& extra_set = "") {
   std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ","), "--options",
                                    "error=" + d.error()};
@@ -245,16 +252,55 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
     argv.insert(argv.end(), {"--out-dir", out_dir});
   }
   std::string out;
-  if (RunCapture(argv, &out) != 0) return NAN;
-  double sum = 0;
-  int n = 0;
+  if (RunCapture(argv, &out) != 0) return {};
+  std::vector<double> errors;
   for (size_t at = out.find("\"error\": "); at != std::string::npos;
-       at = out.find("\"error\": ", at + 1)) {
-    sum += std::strtod(out.c_str() + at + 9, nullptr);
-    ++n;
-  }
+       at = out.find("\"error\": ", at + 1))
+    errors.push_back(std::strtod(out.c_str() + at + 9, nullptr));
   if (!out_dir.empty()) std::ofstream(out_dir + "/eval.json") << out;
-  return n ? sum / n : NAN;
+  return errors;
+}
+
+// Their mean; NAN on failure.
+double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
+                    const v1::DiagnosisSpec& d, const std::string& out_dir,
+                    const std::string& extra_set = "") {
+  const std::vector<double> errors = FileErrors(c, files, d, out_dir, extra_set);
+  double sum = 0;
+  for (double e : errors) sum += e;
+  return errors.empty() ? NAN : sum / errors.size();
+}
+
+// weighting: floor. The spread (sd) of the uncalibrated model's error on each training file
+// over the numeric variants, and weights 1 / sd^2 (sd at least a tenth of the median, so a
+// file the variants agree on cannot take all the weight), scaled to a mean of 1. Empty when
+// an evaluation fails.
+std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
+                                 std::vector<double>* floors) {
+  const auto& variants = NumericVariants();
+  std::vector<std::vector<double>> e(variants.size());
+  for (size_t v = 0; v < variants.size(); ++v) {
+    e[v] = FileErrors(Make(d, {}), files, d, "", variants[v]);
+    if (e[v].size() != files.size()) return {};
+  }
+  floors->assign(files.size(), 0);
+  for (size_t f = 0; f < files.size(); ++f) {
+    double mean = 0, sq = 0;
+    for (const auto& ev : e) mean += ev[f] / e.size();
+    for (const auto& ev : e) sq += (ev[f] - mean) * (ev[f] - mean);
+    (*floors)[f] = std::sqrt(sq / (e.size() - 1));
+  }
+  std::vector<double> sorted = *floors;
+  std::sort(sorted.begin(), sorted.end());
+  const double least = 0.1 * sorted[sorted.size() / 2];
+  std::vector<double> w;
+  double sum = 0;
+  for (double sd : *floors) {
+    w.push_back(1 / std::max(sd * sd, least * least + 1e-30));
+    sum += w.back();
+  }
+  for (double& x : w) x *= w.size() / sum;
+  return w;
 }
 
 // Held-out error of c under every numeric variant, two at a time; c.held is their mean (NAN if
@@ -376,9 +422,25 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
            c.k * std::log(static_cast<double>(n));
   };
 
+  // Recording weights (weighting: floor), the same in every fit.
+  std::vector<double> weights, train_floors;
+  std::string weights_option;
+  if (d.weighting() == "floor") {
+    weights = FloorWeights(d, train_files, &train_floors);
+    if (weights.empty()) {
+      std::cerr << "gaitforge: weighting: floor: the model failed on a training recording under "
+                   "a numeric variant (gaitforge-sim calibration-eval)\n";
+      return kFailed;
+    }
+    std::vector<std::string> parts;
+    for (double w : weights) parts.push_back(absl::StrFormat("%.6g", w));
+    weights_option = absl::StrJoin(parts, ",");
+  }
+
   // 1. Baseline.
   Candidate base = Make(d, {});
-  if (int c = RunStudies(*conn, d, {&base}, d.full_evaluations(), train, held, g, "baseline"); c)
+  if (int c = RunStudies(*conn, d, {&base}, d.full_evaluations(), train, held, weights_option, g,
+                         "baseline"); c)
     return c;
   if (!base.ok) {
     std::cerr << "gaitforge: the baseline fit failed: " << base.reason << "\n";
@@ -414,7 +476,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   for (const auto& id : d.candidates()) screened.push_back(Make(d, {id}));
   std::vector<Candidate*> ptrs;
   for (auto& c : screened) ptrs.push_back(&c);
-  if (int c = RunStudies(*conn, d, ptrs, d.screening_evaluations(), train, held, g, "screening"); c)
+  if (int c = RunStudies(*conn, d, ptrs, d.screening_evaluations(), train, held, weights_option, g,
+                         "screening"); c)
     return c;
   std::sort(screened.begin(), screened.end(), [](const Candidate& a, const Candidate& b) {
     if (a.ok != b.ok) return a.ok;
@@ -432,7 +495,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
         full.push_back(Make(d, {full[i].effects[0], full[j].effects[0]}));
   ptrs.clear();
   for (auto& c : full) ptrs.push_back(&c);
-  if (int c = RunStudies(*conn, d, ptrs, d.full_evaluations(), train, held, g, "refitting"); c)
+  if (int c = RunStudies(*conn, d, ptrs, d.full_evaluations(), train, held, weights_option, g,
+                         "refitting"); c)
     return c;
   const size_t base_genes = d.base_parameters_size();
   for (auto& c : full) {
@@ -498,7 +562,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   absl::StrAppend(&json, "], \"errors\": {\"baseline_train\": ", Num(base.train),
                   ", \"baseline_held_out\": ", Num(base.held),
                   ", \"baseline_held_out_variants\": ", NumList(base.held_variants),
-                  ", \"noise_floor_held_out\": ", Num(floor_sd));
+                  ", \"noise_floor_held_out\": ", Num(floor_sd), ", \"weighting\": ",
+                  Quote(d.weighting()), ", \"training_weights\": ", NumList(weights),
+                  ", \"training_floors\": ", NumList(train_floors));
   if (!named.empty())
     absl::StrAppend(&json, ", \"train\": ", Num(named[0]->train), ", \"held_out\": ",
                     Num(named[0]->held));

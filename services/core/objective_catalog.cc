@@ -70,7 +70,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        0,
        {{"error", {"shape", "pointwise", "stats"}},
         {"metric", {"rmse", "mae"}},
-        {"channels", {}}},
+        {"channels", {}},
+        {"weights", {}}},
        true},
   };
   return catalog;

@@ -6,7 +6,7 @@ Runs `gaitforge diagnose` on each case, and only afterwards opens the sealed ans
 the concealed one, and the held-out error before and after.
 
   /usr/bin/python3 tests/diagnosis/run_suite.py --bin-dir build/bin [--cases a,b] [--check]
-      [--json-out FILE] [--screening N] [--full N] [--suite DIR]
+      [--json-out FILE] [--screening N] [--full N] [--suite DIR] [--weighting equal|floor]
 
 --suite tests/diagnosis/foreign: the cases of an independent simulator
 (bench/diagnosis/rig2d.py) with effects in forms of their own; their answers list every
@@ -26,7 +26,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def diagnose(bin_dir, suite, case, screening, full, workers, base=""):
+def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=""):
     case_dir = os.path.join(suite, "cases", case)
     with open(os.path.join(case_dir, "case.json")) as f:
         c = json.load(f)
@@ -38,6 +38,8 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base=""):
             f.write("training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]\n")
             f.write("held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]\n")
             f.write(f"screening_evaluations: {screening}\nfull_evaluations: {full}\n")
+            if weighting:
+                f.write(f"weighting: {weighting}\n")
             if base:  # NAME:LO:HI,... -> base_parameters, fitted in every study
                 f.write("base_parameters:\n")
                 for item in base.split(","):
@@ -106,12 +108,16 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--base", default="",
                     help="base parameters fitted in every study, NAME:LO:HI,... (default: none)")
+    ap.add_argument("--weighting", default="", choices=["", "equal", "floor"],
+                    help="the spec's weighting of the training recordings (default: the "
+                         "diagnosis's own default)")
     a = ap.parse_args()
     a.bin_dir = os.path.abspath(a.bin_dir)  # each diagnosis runs in its own directory
     a.suite = os.path.abspath(a.suite)
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
-    results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base) for c in cases]
+    results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
+                        a.weighting) for c in cases]
     # Only now: the answers.
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answers = json.load(f)

@@ -111,5 +111,23 @@ cmaes:
     EXPECT_NE(ReadFile(dir.File("runs/plots/" + id + f)).find("<svg"), std::string::npos) << f;
 }
 
+// A diagnosis spec with a bad field is refused before anything runs: exit 2, the file and
+// the field named, with what it allows.
+TEST(Diagnose, RefusesBadSpecsNamingTheField) {
+  TempDir dir;
+  const std::string head = "name: d\nrobot: caterpillar\ntraining: [a.csv]\nheld_out: [c.csv]\n";
+  for (const auto& [extra, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"weighting: both\n", "field 'weighting': 'both' is not one of equal, floor"},
+           {"error: wiggle\n", "field 'error': one of shape, pointwise, stats"},
+           {"top: 0\n", "field 'top': out of range [1, 20]"},
+           {"candidates: [ground.wobble]\n", "field 'candidates[0]': 'ground.wobble'"}}) {
+    WriteFile(dir.File("d.yaml"), head + extra);
+    auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " diagnose d.yaml");
+    EXPECT_EQ(r.exit_code, 2) << extra << r.err;
+    EXPECT_NE(r.err.find("d.yaml"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

@@ -419,6 +419,37 @@ TEST(CalibrationObjective, AveragesOverRecordings) {
   EXPECT_NEAR(t.metrics.at("offset_x"), kOffsetX / 2, 1e-9);
 }
 
+TEST(CalibrationObjective, WeightsOptionWeighsTheRecordings) {
+  objectives::EvalInput in = Input(9.4, 1.0, "shape");
+  auto other = std::make_shared<recording::Recording>(*MakeRecording(Defaults(), 0, 0));
+  other->meta.genes = TravellingWaveGenes(0.5);  // another gait: another error
+  in.recordings.push_back(other);
+  const auto equal = Eval(in);
+  ASSERT_TRUE(equal.valid) << equal.reason;
+  const double e0 = equal.metrics.at("error_0"), e1 = equal.metrics.at("error_1");
+  ASSERT_GT(std::fabs(e0 - e1), 1e-6);
+  in.options["weights"] = "1, 3";
+  const auto weighted = Eval(in);
+  ASSERT_TRUE(weighted.valid) << weighted.reason;
+  EXPECT_NEAR(weighted.metrics.at("error"), (e0 + 3 * e1) / 4, 1e-15);
+  EXPECT_DOUBLE_EQ(weighted.metrics.at("error_0"), e0);  // per-recording errors unweighted
+  EXPECT_DOUBLE_EQ(weighted.fitness, -weighted.metrics.at("error"));
+  in.options["weights"] = "0, 2";  // a zero weight leaves that recording out of the error
+  EXPECT_NEAR(Eval(in).metrics.at("error"), e1, 1e-15);
+  // Bad lists: the reason names the option and what it needs.
+  in.options["weights"] = "1";
+  auto r = Eval(in);
+  EXPECT_FALSE(r.valid);
+  EXPECT_NE(r.reason.find("option weights: 1 weights for 2 recordings"), std::string::npos)
+      << r.reason;
+  for (const char* bad : {"1,x", "1,-2", "1,inf", "0,0"}) {
+    in.options["weights"] = bad;
+    r = Eval(in);
+    EXPECT_FALSE(r.valid) << bad;
+    EXPECT_NE(r.reason.find("option weights"), std::string::npos) << bad << ": " << r.reason;
+  }
+}
+
 TEST(CalibrationObjective, ChannelsOptionSelects) {
   objectives::EvalInput in = Input(9.4, 1.0, "shape");
   in.options["channels"] = "m1.z, m6.z";

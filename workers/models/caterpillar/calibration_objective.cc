@@ -8,6 +8,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/strings/ascii.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "workers/models/caterpillar/calibration_error.h"
@@ -34,6 +35,7 @@ struct Settings {
   double timestep_s = 0;
   double z_weight = 1;
   double min_distance_m = 1e-3;
+  std::vector<double> weights;  // per recording; empty: equal
 };
 
 // A compared channel: its column in the recording and the marker (0..5) and axis (x y z).
@@ -137,9 +139,22 @@ absl::StatusOr<Settings> ParseSettings(const objectives::EvalInput& in,
       if (s.channels.empty()) {
         return absl::InvalidArgumentError("option channels names no channel");
       }
+    } else if (name == "weights") {
+      double total = 0;
+      for (absl::string_view part : absl::StrSplit(value, ',')) {
+        double w = 0;
+        if (!absl::SimpleAtod(absl::StripAsciiWhitespace(part), &w) || !std::isfinite(w) ||
+            w < 0 || w > 1e6) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              "option weights: '", part, "' is not a number in [0, 1e6] (one per recording)"));
+        }
+        s.weights.push_back(w);
+        total += w;
+      }
+      if (!(total > 0)) return absl::InvalidArgumentError("option weights: all weights are 0");
     } else {
       return absl::InvalidArgumentError(
-          absl::StrCat("unknown option ", name, " (known: error, metric, channels)"));
+          absl::StrCat("unknown option ", name, " (known: error, metric, channels, weights)"));
     }
   }
   return s;
@@ -395,7 +410,12 @@ objectives::EvalResult CalibrationObjective::Evaluate(const objectives::EvalInpu
     r.reason = "caterpillar.calibration needs at least one recording";
     return r;
   }
-  double sum = 0, simulated = 0;
+  if (!settings->weights.empty() && settings->weights.size() != in.recordings.size()) {
+    r.reason = absl::StrCat("option weights: ", settings->weights.size(), " weights for ",
+                            in.recordings.size(), " recordings (one per recording)");
+    return r;
+  }
+  double sum = 0, weight_sum = 0, simulated = 0;
   std::array<double, 3> offset_sum{};
   std::array<int, 3> offset_count{};
   for (size_t i = 0; i < in.recordings.size(); ++i) {
@@ -410,7 +430,9 @@ objectives::EvalResult CalibrationObjective::Evaluate(const objectives::EvalInpu
       return r;
     }
     simulated += c->simulated_s;
-    sum += c->error;
+    const double w = settings->weights.empty() ? 1.0 : settings->weights[i];
+    sum += w * c->error;
+    weight_sum += w;
     const std::string k = absl::StrCat(i);
     r.metrics["error_" + k] = c->error;
     r.metrics["best_shift_" + k] = c->shift;
@@ -431,7 +453,7 @@ objectives::EvalResult CalibrationObjective::Evaluate(const objectives::EvalInpu
   for (int a = 0; a < 3; ++a) {
     if (offset_count[a] > 0) r.metrics[axis_names[a]] = offset_sum[a] / offset_count[a];
   }
-  const double error = sum / static_cast<double>(in.recordings.size());
+  const double error = sum / weight_sum;
   r.metrics["error"] = error;
   r.metrics["simulated_s"] = simulated;
   r.valid = true;
