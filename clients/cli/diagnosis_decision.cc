@@ -40,6 +40,12 @@ bool Contains(const FitScore& outer, const FitScore& inner) {
   });
 }
 
+bool Overlaps(const FitScore& a, const FitScore& b) {
+  return std::any_of(a.effects.begin(), a.effects.end(), [&](const std::string& e) {
+    return std::find(b.effects.begin(), b.effects.end(), e) != b.effects.end();
+  });
+}
+
 }  // namespace
 
 Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule) {
@@ -60,8 +66,10 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
     }
     if (!dominated) winners.push_back(i);
   }
+  // Among explanations that all passed, the one that predicts the held-out data best: the
+  // training error (and so BIC) of the hopping robot is dominated by one chaotic gait.
   std::stable_sort(winners.begin(), winners.end(),
-                   [&](int a, int b) { return fits[a].bic < fits[b].bic; });
+                   [&](int a, int b) { return fits[a].held < fits[b].held; });
   // A larger fit that survived its members replaces the best single it contains.
   if (!winners.empty() && fits[winners[0]].effects.size() == 1) {
     for (size_t i = 1; i < winners.size(); ++i) {
@@ -73,11 +81,25 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   }
   Decision d;
   if (winners.empty()) return d;
+  const FitScore& w = fits[winners[0]];
   d.named.push_back(winners[0]);
   for (size_t i = 1; i < winners.size(); ++i)
-    if (fits[winners[i]].bic < fits[winners[0]].bic + rule.margin &&
-        fits[winners[i]].effects.size() == 1 && fits[winners[0]].effects.size() == 1)
+    if (std::fabs(fits[winners[i]].bic - w.bic) < rule.margin &&
+        fits[winners[i]].effects.size() == 1 && w.effects.size() == 1)
       d.named.push_back(winners[i]);
+  if (d.named.size() == 1) {
+    // A rival with no effect in common that fits the training data better by the margin and
+    // that the held-out data cannot show to be worse: the held-out gain alone does not tell
+    // the two apart.
+    int rival = -1;
+    for (int i = 0; i < static_cast<int>(fits.size()); ++i) {
+      const FitScore& f = fits[i];
+      if (!f.ok || f.at_bound || Overlaps(f, w) || !(f.bic < w.bic - rule.margin)) continue;
+      if (!(PairedT(w.held_variants, f.held_variants) > -rule.paired_t)) continue;
+      if (rival < 0 || f.bic < fits[rival].bic) rival = i;
+    }
+    if (rival >= 0) d.named.push_back(rival);
+  }
   d.verdict = d.named.size() > 1 ? "ambiguous" : "found";
   return d;
 }

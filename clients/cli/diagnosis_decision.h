@@ -47,8 +47,11 @@ double PairedT(const std::vector<double>& a, const std::vector<double>& b);
 bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule);
 
 // Singles are judged first; a fit that contains a passing fit's effects must beat it by the
-// margin and by pair_gain held out, and then replaces it. Passing single effects within the
-// margin of the best: "ambiguous".
+// margin and by pair_gain held out, and then replaces it. Of the passing explanations the one
+// with the lowest held-out error is named. "ambiguous" when another passing single effect is
+// within the BIC margin of it, or when a fit with no effect in common (passing or not) beats
+// it on training by the margin and is not worse held out by the paired test (t of their
+// per-variant differences above -paired_t): then both are named, the passing one first.
 Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
 
 }  // namespace gaitforge::cli

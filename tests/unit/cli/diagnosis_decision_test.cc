@@ -96,6 +96,48 @@ TEST(Decide, TwoSinglesWithinTheMarginAreAmbiguous) {
   EXPECT_EQ(Decide(Base(), apart, {}).verdict, "found");
 }
 
+TEST(Decide, NamesThePassingFitThatPredictsTheHeldOutDataBest) {
+  // The shipped soft-links case (session 5, mm): friction fits the training data better (its
+  // hopping gait is chaos-dominated), the link stiffness halves the held-out error.
+  const FitScore base = Fit({}, 0, {1.82, 1.54, 1.73, 1.89, 1.83, 1.84});
+  const std::vector<FitScore> fits = {
+      Fit({"friction.anisotropic"}, -2859, {1.41, 1.4, 1.39, 1.48, 1.41, 1.41}),
+      Fit({"stiffness.scale"}, -2613, {0.71, 0.84, 0.91, 0.95, 1.02, 0.79}),
+      Fit({"mass.offset"}, -2282, {1.56, 1.34, 1.52, 1.8, 1.45, 1.6})};
+  ASSERT_TRUE(BeatsBaseline(base, fits[0], {}));
+  ASSERT_TRUE(BeatsBaseline(base, fits[1], {}));
+  const Decision d = Decide(base, fits, {});
+  EXPECT_EQ(d.verdict, "found");
+  ASSERT_EQ(d.named.size(), 1u);
+  EXPECT_EQ(d.named[0], 1);
+}
+
+TEST(Decide, ARivalThatFitsFarBetterAndIsNotWorseHeldOutMakesItAmbiguous) {
+  // The shipped lag case (session 5): drag passes every test; the actuator lag fails the
+  // held-out gain but fits the training data far better and is not significantly worse
+  // held out. Naming drag alone would be a wrong name.
+  const FitScore base = Fit({}, 0, {1.23, 1.41, 1.2, 1.18, 1.19, 1.23});
+  const std::vector<FitScore> fits = {
+      Fit({"friction.viscous"}, -1990, {1.2, 0.96, 0.96, 1.05, 1.07, 1.04}),
+      Fit({"actuator.lag"}, -8074, {1.35, 1.03, 0.69, 0.54, 1.04, 2.19}),
+      Fit({"actuator.lag", "friction.viscous"}, -7860, {0.75, 1.33, 0.63, 0.83, 0.75, 2.16}),
+      Fit({"actuator.deadband"}, -2208, {1.16, 1.24, 1.18, 1.24, 1.18, 1.24})};
+  ASSERT_TRUE(BeatsBaseline(base, fits[0], {}));
+  ASSERT_FALSE(BeatsBaseline(base, fits[1], {}));
+  const Decision d = Decide(base, fits, {});
+  EXPECT_EQ(d.verdict, "ambiguous");
+  ASSERT_EQ(d.named.size(), 2u);
+  EXPECT_EQ(d.named[0], 0);
+  EXPECT_EQ(d.named[1], 1);  // the rival with the lowest BIC and no effect in common
+  // A rival the held-out data show to be worse (paired t below -2.015) does not count: the
+  // deadband's BIC is lower by 218, but it is worse on every variant.
+  const std::vector<FitScore> worse = {fits[0], fits[3]};
+  EXPECT_EQ(Decide(base, worse, {}).verdict, "found");
+  // Nor does one sharing an effect with the winner (a refinement of it, judged as a pair).
+  const std::vector<FitScore> sharing = {fits[0], fits[2]};
+  EXPECT_EQ(Decide(base, sharing, {}).verdict, "found");
+}
+
 TEST(AtBound, EdgesButNotZero) {
   EXPECT_TRUE(AtBound(-0.3, -0.3, 0.3));    // a slope at the catalog's limit
   EXPECT_TRUE(AtBound(49.5, 0, 50));        // within 2% of the top
