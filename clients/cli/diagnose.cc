@@ -117,7 +117,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_top()) d->set_top(3);
   if (!d->has_try_pairs()) d->set_try_pairs(true);
   if (d->error().empty()) d->set_error("shape");
-  if (d->weighting().empty()) d->set_weighting("equal");
+  if (d->weighting().empty()) d->set_weighting("floor");
   if (!d->has_margin()) d->set_margin(10);
   if (d->candidates_size() == 0)
     for (const auto& e : effects::EffectCatalog())
