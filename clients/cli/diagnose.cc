@@ -1,7 +1,8 @@
 // `gaitforge diagnose SPEC`: the gap finder (docs/diagnosis.md). A study of calibration
 // studies run on the coordinator and its workers:
 //   1. baseline: calibrate the base model (its uncertain parameters and the time offset;
-//      marker offsets are profiled out);
+//      marker offsets are profiled out), every fit weighting the training recordings by
+//      their noise floors (weighting: floor, FloorWeights) or equally;
 //   2. locate: slice the baseline's residuals (clients/python/gaitforge_locate.py);
 //   3. screen every candidate effect (workers/effects) with a short fit, all at once;
 //   4. refit the leading candidates fully, and pairs of them;
@@ -9,8 +10,10 @@
 //      numerically irrelevant variants (timestep, contact softness): "found" only when an
 //      effect beats the baseline by the BIC margin AND cuts the ensemble-mean held-out
 //      error by 15% AND wins the paired comparison across the variants (one-sided t test,
-//      5%); two effects within the margin of each other: "ambiguous", with an experiment
-//      that tells them apart; else "none".
+//      5%); of those that pass, the lowest held-out error is named; two effects within the
+//      margin of each other, or a rival the held-out data cannot reject that fits the
+//      training data better: "ambiguous", with an experiment that tells them apart; else
+//      "none" (clients/cli/diagnosis_decision.h).
 #include <unistd.h>
 
 #include <algorithm>
