@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
 #include "gaitforge/v1/recording.grpc.pb.h"
@@ -54,6 +55,17 @@ absl::StatusOr<v1::AddRecordingResponse> AddRecording(Connection& conn, const st
   return resp;
 }
 
+namespace {
+
+// " (N empty or NaN cells bridged ...)" when the upload had occluded samples, else "".
+std::string MissingNote(const v1::AddRecordingResponse& added) {
+  if (added.missing_cells() <= 0) return "";
+  return absl::StrCat(" (", added.missing_cells(),
+                      " empty or NaN cells bridged by interpolation in time)");
+}
+
+}  // namespace
+
 int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::StudySpec* spec,
                          const GlobalOptions& g) {
   const auto base = std::filesystem::path(spec_path).parent_path();
@@ -71,7 +83,8 @@ int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::Stu
       }
       if (!g.json)
         std::cerr << "recording " << entry << " -> " << added->recording().hash()
-                  << (added->already_stored() ? " (already stored)" : "") << "\n";
+                  << (added->already_stored() ? " (already stored)" : "") << MissingNote(*added)
+                  << "\n";
       entry = added->recording().hash();
     }
   }
@@ -96,8 +109,12 @@ int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
                                          std::string(added.status().message())),
                             "recording add " + args[1]);
     }
-    if (g.json) std::cout << ToJson(*added) << "\n";
-    else std::cout << added->recording().hash() << "\n";
+    if (g.json) {
+      std::cout << ToJson(*added) << "\n";
+    } else {
+      std::cout << added->recording().hash() << "\n";
+      if (added->missing_cells() > 0) std::cerr << args[1] << ":" << MissingNote(*added) << "\n";
+    }
     return kOk;
   }
   auto stub = v1::RecordingService::NewStub(conn->channel());

@@ -53,6 +53,7 @@ absl::StatusOr<v1::AddRecordingResponse> Recordings::Add(const v1::AddRecordingR
   v1::AddRecordingResponse out;
   *out.mutable_recording() = Info(*row);
   out.set_already_stored(!*stored);
+  out.set_missing_cells(parsed->missing_cells);
   return out;
 }
 

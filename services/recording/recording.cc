@@ -216,6 +216,12 @@ absl::Status ParseHeader(std::string_view header, const std::string& name,
   return absl::OkStatus();
 }
 
+// An occluded sample: an empty cell or NaN in any case (never in 't').
+bool IsMissing(std::string_view cell) {
+  return cell.empty() || (cell.size() == 3 && (cell[0] | 0x20) == 'n' && (cell[1] | 0x20) == 'a' &&
+                          (cell[2] | 0x20) == 'n');
+}
+
 absl::Status ParseCsv(std::string_view csv, const std::string& name,
                       const internal::RobotInfo& robot, const RecordingLimits& limits,
                       Recording* rec) {
@@ -254,6 +260,10 @@ absl::Status ParseCsv(std::string_view csv, const std::string& name,
       const std::string_view cell = Trim(std::string_view(p, comma - p));
       p = comma + 1;
       double v;
+      if (c > 0 && IsMissing(cell)) {
+        rec->columns[c - 1].push_back(NAN);
+        continue;
+      }
       if (!internal::ParseFiniteDouble(cell, &v)) {
         const std::string& col_name = c == 0 ? std::string("t") : rec->channels[c - 1];
         std::string got;
@@ -292,6 +302,46 @@ absl::Status ParseCsv(std::string_view csv, const std::string& name,
     return Err(name, 0, 0,
                absl::StrCat("need at least 2 data rows to know the sampling interval, got ",
                             rec->t.size()));
+  return absl::OkStatus();
+}
+
+// Counts the missing cells and bridges them: linear in time between the channel's
+// neighbouring values, the first or last value held at the ends. A channel without any value
+// is an error (line 1, its column).
+absl::Status BridgeMissing(const std::string& name, Recording* rec) {
+  const size_t n = rec->t.size();
+  rec->missing_per_channel.assign(rec->channels.size(), 0);
+  for (size_t c = 0; c < rec->columns.size(); ++c) {
+    std::vector<double>& x = rec->columns[c];
+    std::vector<size_t> present;
+    for (size_t i = 0; i < n; ++i)
+      if (!std::isnan(x[i])) present.push_back(i);
+    if (present.size() == n) continue;
+    if (present.empty())
+      return Err(name, 1, static_cast<int>(c) + 2,
+                 absl::StrCat("channel '", rec->channels[c],
+                              "' has no value: every cell is empty or NaN (leave the column out)"));
+    if (rec->missing.empty()) rec->missing.assign(rec->columns.size(), {});
+    rec->missing[c].assign(n, false);
+    rec->missing_per_channel[c] = static_cast<int64_t>(n - present.size());
+    rec->missing_cells += rec->missing_per_channel[c];
+    size_t k = 0;  // present[k] is the first present row at or after i
+    for (size_t i = 0; i < n; ++i) {
+      while (k < present.size() && present[k] < i) ++k;
+      if (k < present.size() && present[k] == i) continue;
+      rec->missing[c][i] = true;
+      if (k == 0) {
+        x[i] = x[present.front()];
+      } else if (k == present.size()) {
+        x[i] = x[present.back()];
+      } else {
+        const size_t a = present[k - 1], b = present[k];
+        const double w = (rec->t[i] - rec->t[a]) / (rec->t[b] - rec->t[a]);
+        x[i] = x[a] + w * (x[b] - x[a]);
+      }
+    }
+  }
+  if (rec->missing.empty()) rec->missing_per_channel.clear();
   return absl::OkStatus();
 }
 
@@ -361,6 +411,7 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
                  absl::StrCat("key 'channels.", ch, "': channel '", ch, "' is not a column of ",
                               csv_name));
   if (auto st = CheckSampling(csv_name, limits, &rec); !st.ok()) return st;
+  if (auto st = BridgeMissing(csv_name, &rec); !st.ok()) return st;
   return rec;
 }
 

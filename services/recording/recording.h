@@ -3,6 +3,7 @@
 // Parsed and validated here, with no gRPC, SQLite or ODE: the coordinator checks uploads
 // with it and workers read what they fetched with it.
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <string_view>
@@ -31,6 +32,12 @@ struct Recording {
   RecordingMeta meta;
   double dt = 0;                                // nominal sampling interval (s)
   int dropped_rows = 0;                         // rows missing from the regular grid
+  // Cells left empty or written NaN (an occluded marker): bridged in `columns` by linear
+  // interpolation in time between the channel's neighbouring values (the first or last
+  // value held at the ends). Per channel, and the positions for whoever wants to skip them.
+  int64_t missing_cells = 0;
+  std::vector<int64_t> missing_per_channel;        // one per channel
+  std::vector<std::vector<bool>> missing;          // missing[c][row]; empty when none
   int ChannelIndex(std::string_view name) const;  // -1 if absent
 };
 
@@ -43,7 +50,7 @@ struct RecordingLimits {
 };
 
 // Parses and validates. Errors name the file, line and column and what was expected:
-// non-numeric cells, NaN or infinite values, missing or duplicate columns, time that does
+// non-numeric cells, infinite values, an empty or NaN time, a channel with no value at all, missing or duplicate columns, time that does
 // not increase, sampling irregular beyond the tolerance, an unknown robot or channel, a
 // file over the size limit, a sidecar that is not JSON or lacks required keys.
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,

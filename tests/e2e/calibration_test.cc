@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "tests/e2e/cluster.h"
 #include "tests/support/temp_dir.h"
@@ -80,6 +83,27 @@ cmaes:
   auto bad = RunCommand(cli + "recording add bad.csv");
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
   EXPECT_NE(bad.err.find("bad.csv:3:2"), std::string::npos) << bad.err;
+  // Occluded markers (empty and NaN cells) upload, bridged and counted: the third data row's
+  // m1.x empty, the fourth's m2.z NaN.
+  std::istringstream rows(ReadFile(dir.File("c.csv")));
+  std::string occluded, row;
+  for (int i = 0; std::getline(rows, row); ++i) {
+    std::vector<std::string> cells;
+    std::istringstream split(row);
+    for (std::string c; std::getline(split, c, ',');) cells.push_back(c);
+    if (i == 3) cells[1] = "";     // m1.x
+    if (i == 4) cells[6] = "NaN";  // m2.z
+    for (size_t c = 0; c < cells.size(); ++c) occluded += (c ? "," : "") + cells[c];
+    occluded += "\n";
+  }
+  WriteFile(dir.File("occluded.csv"), occluded);
+  WriteFile(dir.File("occluded.csv.json"), ReadFile(dir.File("c.csv.json")));
+  auto occ = RunCommand(cli + "recording add occluded.csv --json");
+  EXPECT_EQ(occ.exit_code, 0) << occ.err;
+  EXPECT_NE(occ.out.find("\"missing_cells\":\"2\""), std::string::npos) << occ.out;
+  auto occ_text = RunCommand(cli + "recording add occluded.csv");
+  EXPECT_EQ(occ_text.exit_code, 0) << occ_text.err;
+  EXPECT_NE(occ_text.err.find("2 empty or NaN cells bridged"), std::string::npos) << occ_text.err;
 
   // The fit: within the stated tolerance of the truth (force 0.3 N, stiffness scale 0.1).
   // The robot hops, so the error landscape is rugged at small scales

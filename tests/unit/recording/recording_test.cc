@@ -235,6 +235,43 @@ TEST(RecordingTest, DroppedRowsAreCounted) {
   EXPECT_EQ(two->dropped_rows, 0);
 }
 
+const std::string kFullCsv = "t,m1.x,m1.z\n0,1,2\n0.01,1,2\n0.02,1,2\n";
+
+TEST(RecordingTest, EmptyAndNaNCellsAreMissingSamplesBridgedInTime) {
+  // m1.x occluded at 0.01 (empty) and 0.02..0.03 (NaN, nan); m1.z at the start and the end.
+  auto r = ParseRecording(
+      "t,m1.x,m1.z\n0,1,\n0.01,,NAN\n0.02,NaN,2\n0.03,nan,3\n0.04,5,4\n0.05,6,\n",
+      MinimalSidecar(), "occ.csv", "occ.json");
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->t.size(), 6u);
+  EXPECT_EQ(r->dropped_rows, 0);
+  EXPECT_EQ(r->missing_cells, 6);
+  EXPECT_EQ(r->missing_per_channel, (std::vector<int64_t>{3, 3}));
+  // Linear in time between 1 at 0 and 5 at 0.04; the ends hold the nearest value.
+  ASSERT_EQ(r->columns[0].size(), 6u);
+  EXPECT_DOUBLE_EQ(r->columns[0][1], 2);
+  EXPECT_DOUBLE_EQ(r->columns[0][2], 3);
+  EXPECT_DOUBLE_EQ(r->columns[0][3], 4);
+  EXPECT_EQ(r->columns[0][4], 5);
+  EXPECT_EQ(r->columns[1], (std::vector<double>{2, 2, 2, 3, 4, 4}));
+  EXPECT_EQ(r->missing[0], (std::vector<bool>{false, true, true, true, false, false}));
+  EXPECT_EQ(r->missing[1], (std::vector<bool>{true, true, false, false, false, true}));
+
+  // Bridging works across dropped rows too: time, not row count, sets the weights.
+  auto g = ParseRecording("t,m1.x\n0,0\n0.01,\n0.04,4\n0.05,5\n", MinimalSidecar(), "g.csv",
+                          "g.json");
+  ASSERT_TRUE(g.ok()) << g.status();
+  EXPECT_EQ(g->dropped_rows, 2);
+  EXPECT_DOUBLE_EQ(g->columns[0][1], 1);
+
+  // Nothing missing: no mask, nothing counted.
+  auto full = ParseRecording(kFullCsv, MinimalSidecar(), "f.csv", "f.json");
+  ASSERT_TRUE(full.ok()) << full.status();
+  EXPECT_EQ(full->missing_cells, 0);
+  EXPECT_TRUE(full->missing.empty());
+  EXPECT_TRUE(full->missing_per_channel.empty());
+}
+
 struct ErrorCase {
   const char* name;
   std::string csv;
@@ -269,12 +306,15 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         ErrorCase{"NonNumeric", "t,m1.x,m3.z\n0,1,2\n0.01,1,abc\n", "",
                   "rec.csv:3:3: column 'm3.z': expected a number, got 'abc'"},
-        ErrorCase{"EmptyCell", "t,m1.x,m1.z\n0,1,2\n0.01,,2\n", "",
-                  "rec.csv:3:2: column 'm1.x': expected a number, got an empty cell"},
-        ErrorCase{"EmptyLastCell", "t,m1.x,m1.z\n0,1,2\n0.01,1,\n", "",
-                  "rec.csv:3:3: column 'm1.z': expected a number, got an empty cell"},
-        ErrorCase{"NaN", "t,m1.x,m1.z\n0,1,2\n0.01,NaN,2\n", "",
-                  "rec.csv:3:2: column 'm1.x': expected a finite number, got 'NaN'"},
+        ErrorCase{"EmptyTime", "t,m1.x,m1.z\n0,1,2\n,1,2\n", "",
+                  "rec.csv:3:1: column 't': expected a number, got an empty cell"},
+        ErrorCase{"NaNTime", "t,m1.x,m1.z\n0,1,2\nnan,1,2\n", "",
+                  "rec.csv:3:1: column 't': expected a finite number, got 'nan'"},
+        ErrorCase{"ChannelWithoutValue", "t,m1.x,m1.z\n0,1,\n0.01,1,NaN\n", "",
+                  "rec.csv:1:3: channel 'm1.z' has no value: every cell is empty or NaN (leave "
+                  "the column out)"},
+        ErrorCase{"NaNWord", "t,m1.x,m1.z\n0,1,2\n0.01,NaNa,2\n", "",
+                  "rec.csv:3:2: column 'm1.x': expected a number, got 'NaNa'"},
         ErrorCase{"Inf", "t,m1.x,m1.z\n0,1,2\n0.01,1,2\n0.02,1,-inf\n", "",
                   "rec.csv:4:3: column 'm1.z': expected a finite number, got '-inf'"},
         ErrorCase{"Overflow", "t,m1.x,m1.z\n0,1e999,2\n", "",
