@@ -30,16 +30,16 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
   static const std::vector<ObjectiveInfo> catalog = {
       {"analytic.sphere",
        "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
-       AnalyticParams(), CaterpillarGaitSpace(), 0},
+       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
       {"analytic.ellipsoid",
        "fitness = -sum 1e6^(i/(n-1)) z_i^2 (conditioning 1e6)",
-       AnalyticParams(), CaterpillarGaitSpace(), 0},
+       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
       {"analytic.rosenbrock",
        "fitness = -sum 100 (z_{i+1} - z_i^2)^2 + (1 - z_i)^2",
-       AnalyticParams(), CaterpillarGaitSpace(), 0},
+       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
       {"analytic.rastrigin",
        "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
-       AnalyticParams(), CaterpillarGaitSpace(), 0},
+       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
       {"caterpillar.distance",
        "forward travel (m) per gait cycle of the lumped ODE caterpillar "
        "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
@@ -52,8 +52,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        {{"set", {}}}},
       {"caterpillar.calibration",
        "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
-       "-(mean error over the recordings) between recorded and simulated markers (m; relative "
-       "for error = stats); genes are model parameters named in bounds, plus "
+       "-(mean error over the recordings, weighted by the weights option when given) between "
+       "recorded and simulated markers (m; relative for error = stats); genes are model parameters named in bounds, plus "
        "nuisance.time_offset_s",
        {{"settle_cycles", 0, 20, 2,
          "gait cycles from rest (simulated time) left out of the comparison", true},
