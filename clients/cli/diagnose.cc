@@ -545,6 +545,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   }
 
   // Report: JSON and words.
+  auto why_not = [&](const Candidate& c) {
+    return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule);
+  };
   auto effect_json = [&](const Candidate& c) {
     std::string j = absl::StrCat("{\"id\": ", Quote(c.label), ", \"params\": {");
     for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
@@ -556,7 +559,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                     ", \"paired_t\": ", Num(PairedT(base.held_variants, c.held_variants)),
                     ", \"at_bound\": [", absl::StrJoin(c.bound_params, ", ", [](std::string* o, const std::string& n) { o->append(Quote(n)); }), "]",
                     ", \"delta_bic\": ",
-                    Num(c.bic - base.bic), "}");
+                    Num(c.bic - base.bic));
+    if (std::find(named.begin(), named.end(), &c) == named.end())
+      absl::StrAppend(&j, ", \"why_not\": ", Quote(why_not(c)));
+    absl::StrAppend(&j, "}");
     return j;
   };
   std::string json = absl::StrCat("{\"name\": ", Quote(d.name()), ", \"verdict\": ", Quote(verdict),
@@ -621,15 +627,16 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       std::cout << "  corrected model: " << corrected << "\n";
     }
     std::cout << "  where the mismatch lives: see " << dir << "/located.json and located.svg\n";
-    std::cout << "  runners-up:";
+    std::cout << "  runners-up, and why they lost:\n";
     for (const auto& c : full)
-      if (named.empty() || &c != named[0])
-        std::cout << absl::StrFormat(" %s (dBIC %.1f, held-out %.3g mm%s)", c.label, c.bic - base.bic,
-                                     1000 * c.held,
+      if (std::find(named.begin(), named.end(), &c) == named.end())
+        std::cout << absl::StrFormat("    %s (dBIC %.1f, held-out %.3g mm%s): %s\n", c.label,
+                                     c.bic - base.bic, 1000 * c.held,
                                      c.at_bound ? ", at the edge of its range: " +
                                                       absl::StrJoin(c.bound_params, ", ")
-                                                : std::string());
-    std::cout << "\n  report: " << dir << "/diagnosis.json\n";
+                                                : std::string(),
+                                     why_not(c));
+    std::cout << "  report: " << dir << "/diagnosis.json\n";
   }
   return kOk;
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/strings/str_format.h"
+
 namespace gaitforge::cli {
 
 double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
@@ -102,6 +104,43 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   }
   d.verdict = d.named.size() > 1 ? "ambiguous" : "found";
   return d;
+}
+
+std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
+                        const DecisionRule& rule) {
+  if (&fit == winner) return "";
+  if (!fit.ok) return "the fit failed (no valid model)";
+  if (fit.at_bound)
+    return "a fitted parameter sits at the edge of its range: an implausible value, the mark of "
+           "an effect absorbing a mismatch it does not describe";
+  const double dbic = fit.bic - base.bic;
+  if (!(dbic < -rule.margin))
+    return absl::StrFormat("fits the training data no better than the baseline (delta BIC %.1f; "
+                           "the rule asks below -%g)",
+                           dbic, rule.margin);
+  if (!std::isfinite(fit.held)) return "no held-out score";
+  const double change = fit.held / base.held - 1;
+  if (change >= 0)
+    return absl::StrFormat("fits the training data better (delta BIC %.0f) but predicts the "
+                           "held-out recordings worse (%+.0f%%): it absorbs the training mismatch",
+                           dbic, 100 * change);
+  if (!(fit.held < (1 - rule.held_out_gain) * base.held))
+    return absl::StrFormat("cuts the held-out error by only %.0f%% (the rule asks %.0f%%)",
+                           -100 * change, 100 * rule.held_out_gain);
+  const double t = PairedT(base.held_variants, fit.held_variants);
+  if (!(t > rule.paired_t))
+    return absl::StrFormat("cuts the held-out error by %.0f%% on average, but not consistently "
+                           "across the numeric variants (paired t %.2f, the rule asks above %g)",
+                           -100 * change, t, rule.paired_t);
+  if (!winner) return "passed every test";
+  if (Contains(fit, *winner))
+    return absl::StrFormat("passed every test, but adds nothing the named explanation lacks "
+                           "(a larger fit must beat its member by the BIC margin and %.0f%% held "
+                           "out)",
+                           100 * rule.pair_gain);
+  return absl::StrFormat("passed every test, but the named explanation predicts the held-out "
+                         "recordings better (%.3g against %.3g mm)",
+                         1000 * winner->held, 1000 * fit.held);
 }
 
 }  // namespace gaitforge::cli

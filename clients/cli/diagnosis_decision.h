@@ -54,4 +54,11 @@ bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule
 // per-variant differences above -paired_t): then both are named, the passing one first.
 Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
 
+// Why `fit` was not named, in words for the report: the first test of BeatsBaseline it
+// fails, with its figures ("cut the held-out error by only 6% (the rule asks 15%)"); for a
+// fit that passed, what the named explanation `winner` (null: none) did better. Empty for
+// the named fit itself.
+std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
+                        const DecisionRule& rule);
+
 }  // namespace gaitforge::cli

@@ -12,7 +12,8 @@ the concealed one, and the held-out error before and after.
 (bench/diagnosis/rig2d.py) with effects in forms of their own; their answers list every
 catalog id that counts as right (`accept`).
 
---check: exit 1 unless every case gets the right verdict and effect (the ctest test);
+--check: exit 1 unless every case gets the right verdict and effect and every runner-up
+says why it lost (the ctest test);
 without it the script is the benchmark (confusion matrix, magnitude errors, times).
 """
 import argparse
@@ -151,7 +152,13 @@ def main():
     if a.json_out:
         with open(a.json_out, "w") as f:
             json.dump({"summary": summary, "results": results}, f, indent=1)
-    if a.check and not all(s["correct"] for s in scores):
+    # The report says why every runner-up lost (the named ones excepted).
+    unexplained = [f"{r.get('case', '?')}: {u['id']}" for r in results
+                   for u in r.get("runners_up", [])
+                   if not u.get("why_not") and u["id"] not in {e["id"] for e in r.get("effects", [])}]
+    if unexplained:
+        print("runners-up without a reason: " + ", ".join(unexplained), file=sys.stderr)
+    if a.check and (unexplained or not all(s["correct"] for s in scores)):
         return 1
     return 0
 
