@@ -32,6 +32,9 @@ with the effect, without it (the null rig) and the diagnosed model (caterpillar.
 Run from the repository root (binaries in build/bin):
     /usr/bin/python3 bench/diagnosis/make_cases.py [--out DIR] [--sim PATH] [--rig SET] [--survey]
 
+Cases derived from these by occlude_cases.py (markers occluded at times) keep their
+answers here; rerun that script after this one.
+
 --survey writes nothing: it prints the distance per cycle of every case's effect on a few
 nearby rigs (timestep x contact CFM), to show how much of a travel difference is the
 effect and how much the hopping robot's sensitivity to numerically irrelevant changes.
@@ -265,7 +268,15 @@ def main():
                 "nuisance": {"nuisance.time_offset_s": -TIME_SHIFT_S,
                              "noise_sd_m": NOISE_SD_M, "files": nuisance},
             }
-    with open(os.path.join(args.out, "answers.sealed.json"), "w") as f:
+    # Cases derived from these (occlude_cases.py) keep their answers: rerun that script to
+    # derive them again from the new sources.
+    answers_path = os.path.join(args.out, "answers.sealed.json")
+    if os.path.exists(answers_path):
+        with open(answers_path) as f:
+            for case, answer in json.load(f).items():
+                if "derived_from" in answer and case not in answers:
+                    answers[case] = answer
+    with open(answers_path, "w") as f:
         f.write(json.dumps(answers, indent=2) + "\n")
 
     print(f"rig: {args.rig}; {CYCLES} cycles after {SETTLE} settle cycles at {RATE_HZ} Hz")
