@@ -5,7 +5,7 @@ Runs `gaitforge diagnose` on each case, and only afterwards opens the sealed ans
 (answers.sealed.json) to score: the verdict and effect named, the fitted magnitude against
 the concealed one, and the held-out error before and after.
 
-  /usr/bin/python3 tests/diagnosis/run_suite.py --bin-dir build/bin [--cases a,b] [--check]
+  /usr/bin/python3 tests/diagnosis/run_suite.py [--bin-dir build/bin] [--cases a,b] [--check]
       [--json-out FILE] [--screening N] [--full N] [--suite DIR] [--weighting equal|floor]
 
 --suite tests/diagnosis/foreign: the cases of an independent simulator
@@ -15,6 +15,10 @@ catalog id that counts as right (`accept`).
 --check: exit 1 unless every case gets the right verdict and effect and every runner-up
 says why it lost (the ctest test);
 without it the script is the benchmark (confusion matrix, magnitude errors, times).
+
+--rescore A.json,B.json: no diagnosis; score the stored results of earlier runs (their
+--json-out files) against this suite's answers, e.g. to print one confusion matrix over
+runs made in parts. The verdicts are the stored ones.
 """
 import argparse
 import json
@@ -95,9 +99,49 @@ def score(result, answer):
     return s
 
 
+OUTCOMES = ["alone", "in a pair", "ambiguous, truth named", "ambiguous, not", "wrong name",
+            "none", "error"]
+
+
+def outcome(s, answer):
+    """The confusion matrix's column for one scored case."""
+    accept = answer.get("accept") or [s["truth"]]
+    p = s["predicted"]
+    if p == "error":
+        return "error"
+    if p == "none":
+        return "none"
+    if p.startswith("ambiguous:"):
+        named = [i for n in p[len("ambiguous:"):].split("|") for i in n.split("+")]
+        return "ambiguous, truth named" if any(a in named for a in accept) else "ambiguous, not"
+    if s["exact"]:
+        return "alone"
+    return "in a pair" if s["correct"] else "wrong name"
+
+
+def confusion(scores, answers):
+    """Truth (effect id, or none) x outcome, counts."""
+    m = {}
+    for s in scores:
+        row = m.setdefault(s["truth"], {o: 0 for o in OUTCOMES})
+        row[outcome(s, answers[s["case"]])] += 1
+    return m
+
+
+def print_confusion(m):
+    print("confusion: truth x verdict (alone / in a pair: the truth named; wrong name: an effect "
+          "that is not)")
+    print(f"{'truth':22s} " + " ".join(f"{o:>10s}" for o in
+                                      ["alone", "pair", "amb:truth", "amb:other", "wrong",
+                                       "none", "error"]))
+    for truth in sorted(m, key=lambda t: (t == "none", t)):
+        print(f"{truth:22s} " + " ".join(f"{m[truth][o]:10d}" for o in OUTCOMES))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--bin-dir", required=True)
+    ap.add_argument("--bin-dir", default=os.path.join(HERE, "..", "..", "build", "bin"),
+                    help="where gaitforge and its servers are (default: build/bin)")
     ap.add_argument("--cases", default="")
     ap.add_argument("--suite", default=HERE,
                     help="directory with cases/ and answers.sealed.json (default: this one; "
@@ -112,13 +156,24 @@ def main():
     ap.add_argument("--weighting", default="", choices=["", "equal", "floor"],
                     help="the spec's weighting of the training recordings (default: the "
                          "diagnosis's own default)")
+    ap.add_argument("--rescore", default="",
+                    help="score stored diagnoses instead of running: --json-out files of earlier "
+                         "runs, comma separated (their cases in this suite's answers)")
     a = ap.parse_args()
     a.bin_dir = os.path.abspath(a.bin_dir)  # each diagnosis runs in its own directory
     a.suite = os.path.abspath(a.suite)
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
-    results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
-                        a.weighting) for c in cases]
+    if a.rescore:
+        results = []
+        for path in a.rescore.split(","):
+            with open(path) as f:
+                results += json.load(f)["results"]
+        if a.cases:
+            results = [r for r in results if r["case"] in cases]
+    else:
+        results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
+                            a.weighting) for c in cases]
     # Only now: the answers.
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answers = json.load(f)
@@ -135,13 +190,14 @@ def main():
                "false_discovery_rate": fdr,
                "median_magnitude_relative_error": mags[len(mags) // 2] if mags else None,
                "median_held_out_reduction": reds[len(reds) // 2] if reds else None,
-               "wall_seconds": round(total, 1)}
+               "wall_seconds": round(total, 1), "confusion": confusion(scores, answers)}
     print(f"{'case':14s} {'truth':22s} {'predicted':34s} {'ok':3s} {'|mag err|':>9s} {'held-out':>9s} {'s':>6s}")
     for s in scores:
         mag = f"{100 * s['magnitude_relative_error']:.0f}%" if "magnitude_relative_error" in s else "-"
         red = f"-{100 * s['held_out_reduction']:.0f}%" if "held_out_reduction" in s else "-"
         print(f"{s['case']:14s} {s['truth']:22s} {s['predicted']:34s} {'yes' if s['correct'] else 'NO':3s} "
               f"{mag:>9s} {red:>9s} {s.get('wall_seconds', 0):6.0f}")
+    print_confusion(summary["confusion"])
     print(f"top-1 correct-effect rate {top1} (alone, not in a pair: {exact}), "
           f"false-discovery rate on nulls {fdr}, "
           f"median magnitude error {summary['median_magnitude_relative_error']}, "
@@ -152,8 +208,9 @@ def main():
     if a.json_out:
         with open(a.json_out, "w") as f:
             json.dump({"summary": summary, "results": results}, f, indent=1)
-    # The report says why every runner-up lost (the named ones excepted).
-    unexplained = [f"{r.get('case', '?')}: {u['id']}" for r in results
+    # The report says why every runner-up lost (the named ones excepted; stored results
+    # from before session 6 have no reasons).
+    unexplained = [f"{r.get('case', '?')}: {u['id']}" for r in ([] if a.rescore else results)
                    for u in r.get("runners_up", [])
                    if not u.get("why_not") and u["id"] not in {e["id"] for e in r.get("effects", [])}]
     if unexplained:
