@@ -53,8 +53,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
       {"caterpillar.calibration",
        "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
        "-(mean error over the recordings, weighted by the weights option when given) between "
-       "recorded and simulated markers (m; relative for error = stats); genes are model parameters named in bounds, plus "
-       "nuisance.time_offset_s",
+       "recorded and simulated markers (m; relative for error = stats); genes are model "
+       "parameters named in bounds, plus nuisance.time_offset_s",
        {{"settle_cycles", 0, 20, 2,
          "gait cycles from rest (simulated time) left out of the comparison", true},
         {"max_shift_samples", 0, 1000, 10,

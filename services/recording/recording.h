@@ -36,7 +36,7 @@ struct Recording {
   // interpolation in time between the channel's neighbouring values (the first or last
   // value held at the ends). Per channel, and the positions for whoever wants to skip them.
   int64_t missing_cells = 0;
-  std::vector<int64_t> missing_per_channel;        // one per channel
+  std::vector<int64_t> missing_per_channel;        // one per channel; empty when none
   std::vector<std::vector<bool>> missing;          // missing[c][row]; empty when none
   int ChannelIndex(std::string_view name) const;  // -1 if absent
 };
@@ -50,9 +50,10 @@ struct RecordingLimits {
 };
 
 // Parses and validates. Errors name the file, line and column and what was expected:
-// non-numeric cells, infinite values, an empty or NaN time, a channel with no value at all, missing or duplicate columns, time that does
-// not increase, sampling irregular beyond the tolerance, an unknown robot or channel, a
-// file over the size limit, a sidecar that is not JSON or lacks required keys.
+// non-numeric cells, infinite values, an empty or NaN time, a channel with no value at all,
+// missing or duplicate columns, time that does not increase, sampling irregular beyond the
+// tolerance, an unknown robot or channel, a file over the size limit, a sidecar that is not
+// JSON or lacks required keys. Empty or NaN channel cells are missing samples, bridged.
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
                                          const std::string& csv_name,
                                          const std::string& sidecar_name,

@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "gmock/gmock.h"
 #include "absl/strings/str_format.h"
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "services/recording/recording.h"
 #include "workers/models/caterpillar/calibration_error.h"
@@ -447,7 +447,8 @@ TEST(CalibrationObjective, OccludedMarkersAreBridgedAndCalibrateTheSame) {
     csv += "\n";
   }
   std::string genes;
-  for (double g : full.meta.genes) genes += (genes.empty() ? "" : ", ") + absl::StrFormat("%.17g", g);
+  for (double g : full.meta.genes)
+    genes += (genes.empty() ? "" : ", ") + absl::StrFormat("%.17g", g);
   const std::string sidecar = "{\"robot\": \"caterpillar\", \"command\": {\"kind\": \"gait\", "
                               "\"genes\": [" + genes + "]}}";
   auto parsed = recording::ParseRecording(csv, sidecar, "occluded.csv", "occluded.csv.json");
