@@ -177,6 +177,10 @@ def main():
     # Only now: the answers.
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answers = json.load(f)
+    unknown = sorted({r["case"] for r in results if r["case"] not in answers})
+    if unknown:
+        sys.exit(f"run_suite: no answer for {', '.join(unknown)} in "
+                 f"{os.path.join(a.suite, 'answers.sealed.json')} (another suite? --suite)")
     scores = [score(r, answers[r["case"]]) for r in results]
     total = time.monotonic() - t0
     effects = [s for s in scores if s["truth"] != "none"]
