@@ -52,7 +52,7 @@ def occlude(src_csv, dst_csv, seed):
         start = int(rng.integers(len(rows)))
         length = int(rng.integers(1, MAX_RUN_ROWS + 1))
         hidden[start:start + length, m] = True
-    # Every marker keeps its first and last sample somewhere, and no column goes empty.
+    # No marker is hidden in every row (the parser refuses a channel with no value).
     for m in range(len(markers)):
         if hidden[:, m].all():
             hidden[0, m] = False

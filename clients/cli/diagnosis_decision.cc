@@ -28,10 +28,41 @@ bool AtBound(double x, double lo, double hi, double fraction) {
   return (lo != 0 && x - lo < margin) || (hi != 0 && hi - x < margin);
 }
 
+namespace {
+
+// The first test of the rule `fit` fails against `base`, in words with its figures; empty
+// when it passes them all. BeatsBaseline and WhyNotNamed both rest on it.
+std::string Shortfall(const FitScore& base, const FitScore& fit, const DecisionRule& rule) {
+  if (!fit.ok) return "the fit failed (no valid model)";
+  if (fit.at_bound)
+    return "a fitted parameter sits at the edge of its range: an implausible value, the mark of "
+           "an effect absorbing a mismatch it does not describe";
+  const double dbic = fit.bic - base.bic;
+  if (!(dbic < -rule.margin))
+    return absl::StrFormat("fits the training data no better than the baseline (delta BIC %.1f; "
+                           "the rule asks below -%g)",
+                           dbic, rule.margin);
+  if (!std::isfinite(fit.held)) return "no held-out score";
+  const double change = fit.held / base.held - 1;
+  if (change >= 0)
+    return absl::StrFormat("fits the training data better (delta BIC %.0f) but predicts the "
+                           "held-out recordings worse (%+.0f%%): it absorbs the training mismatch",
+                           dbic, 100 * change);
+  if (!(fit.held < (1 - rule.held_out_gain) * base.held))
+    return absl::StrFormat("cuts the held-out error by only %.0f%% (the rule asks %.0f%%)",
+                           -100 * change, 100 * rule.held_out_gain);
+  const double t = PairedT(base.held_variants, fit.held_variants);
+  if (!(t > rule.paired_t))
+    return absl::StrFormat("cuts the held-out error by %.0f%% on average, but not consistently "
+                           "across the numeric variants (paired t %.2f, the rule asks above %g)",
+                           -100 * change, t, rule.paired_t);
+  return "";
+}
+
+}  // namespace
+
 bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule) {
-  return fit.ok && !fit.at_bound && fit.bic - base.bic < -rule.margin && std::isfinite(fit.held) &&
-         fit.held < (1 - rule.held_out_gain) * base.held &&
-         PairedT(base.held_variants, fit.held_variants) > rule.paired_t;
+  return Shortfall(base, fit, rule).empty();
 }
 
 namespace {
@@ -109,29 +140,7 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
 std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
                         const DecisionRule& rule) {
   if (&fit == winner) return "";
-  if (!fit.ok) return "the fit failed (no valid model)";
-  if (fit.at_bound)
-    return "a fitted parameter sits at the edge of its range: an implausible value, the mark of "
-           "an effect absorbing a mismatch it does not describe";
-  const double dbic = fit.bic - base.bic;
-  if (!(dbic < -rule.margin))
-    return absl::StrFormat("fits the training data no better than the baseline (delta BIC %.1f; "
-                           "the rule asks below -%g)",
-                           dbic, rule.margin);
-  if (!std::isfinite(fit.held)) return "no held-out score";
-  const double change = fit.held / base.held - 1;
-  if (change >= 0)
-    return absl::StrFormat("fits the training data better (delta BIC %.0f) but predicts the "
-                           "held-out recordings worse (%+.0f%%): it absorbs the training mismatch",
-                           dbic, 100 * change);
-  if (!(fit.held < (1 - rule.held_out_gain) * base.held))
-    return absl::StrFormat("cuts the held-out error by only %.0f%% (the rule asks %.0f%%)",
-                           -100 * change, 100 * rule.held_out_gain);
-  const double t = PairedT(base.held_variants, fit.held_variants);
-  if (!(t > rule.paired_t))
-    return absl::StrFormat("cuts the held-out error by %.0f%% on average, but not consistently "
-                           "across the numeric variants (paired t %.2f, the rule asks above %g)",
-                           -100 * change, t, rule.paired_t);
+  if (std::string why = Shortfall(base, fit, rule); !why.empty()) return why;
   if (!winner) return "passed every test";
   if (Contains(fit, *winner))
     return absl::StrFormat("passed every test, but adds nothing the named explanation lacks "
