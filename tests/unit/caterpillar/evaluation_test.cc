@@ -89,9 +89,15 @@ TEST(CaterpillarEvaluation, CatalogDefaultsAreTheModelFiles) {
     const core::ObjectiveInfo* info = core::FindObjective(objective);
     ASSERT_NE(info, nullptr) << objective;
     for (const auto& p : info->params) {
-      if (p.name == "timestep_ms") EXPECT_DOUBLE_EQ(p.default_value * 1e-3, sim.timestep_s);
-      if (p.name == "settle_cycles") EXPECT_EQ(p.default_value, sim.settle_cycles);
-      if (p.name == "cycles") EXPECT_EQ(p.default_value, sim.measured_cycles);
+      if (p.name == "timestep_ms") {
+        EXPECT_DOUBLE_EQ(p.default_value * 1e-3, sim.timestep_s);
+      }
+      if (p.name == "settle_cycles") {
+        EXPECT_EQ(p.default_value, sim.settle_cycles);
+      }
+      if (p.name == "cycles") {
+        EXPECT_EQ(p.default_value, sim.measured_cycles);
+      }
     }
   }
 }
