@@ -103,6 +103,8 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
     return absl::InvalidArgumentError(
         "fields 'screening_evaluations' and 'full_evaluations': at least 8");
   if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
+  if (!(d.screening_tie() >= 0 && d.screening_tie() <= 0.2))
+    return absl::InvalidArgumentError("field 'screening_tie': out of range [0, 0.2]");
   if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
     return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
   if (d.weighting() != "equal" && d.weighting() != "floor")
@@ -118,6 +120,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
   if (!d->has_full_evaluations()) d->set_full_evaluations(480);
   if (!d->has_top()) d->set_top(3);
+  if (!d->has_screening_tie()) d->set_screening_tie(0.01);
   if (!d->has_try_pairs()) d->set_try_pairs(true);
   if (d->error().empty()) d->set_error("shape");
   if (d->weighting().empty()) d->set_weighting("floor");
@@ -488,9 +491,13 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   });
 
   // 4. Full fits of the leaders, then pairs of them.
+  // Near ties with the last leader are refitted too: a short fit cannot order them.
+  std::vector<double> screened_train;
+  for (const auto& c : screened)
+    if (c.ok) screened_train.push_back(c.train);
+  const int leaders = LeadersToRefit(screened_train, d.top(), d.screening_tie());
   std::vector<Candidate> full;
-  for (int i = 0; i < d.top() && i < static_cast<int>(screened.size()); ++i)
-    if (screened[i].ok) full.push_back(Make(d, screened[i].effects));
+  for (int i = 0; i < leaders; ++i) full.push_back(Make(d, screened[i].effects));
   const size_t singles = full.size();
   if (d.try_pairs())
     for (size_t i = 0; i < singles && i < 2; ++i)
@@ -592,7 +599,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (verdict == "ambiguous")
     for (const auto* c : named)
       if (const auto* e = effects::FindEffect(c->effects[0])) experiment += e->experiment + " ";
-  absl::StrAppend(&json, "], \"located\": ", located, ", \"experiment\": ", Quote(experiment),
+  absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"located\": ", located, ", \"experiment\": ", Quote(experiment),
                   ", \"corrected_model\": ", Quote(corrected), ", \"compared_samples\": ", n,
                   "}\n");
   std::ofstream(dir + "/diagnosis.json") << json;
@@ -627,6 +634,11 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       std::cout << "  corrected model: " << corrected << "\n";
     }
     std::cout << "  where the mismatch lives: see " << dir << "/located.json and located.svg\n";
+    if (static_cast<int>(singles) > d.top())
+      std::cout << "  refitted " << singles << " leaders of the screening, not " << d.top()
+                << ": the last within " << 100 * d.screening_tie() << "% of the " << d.top()
+                << (d.top() == 1 ? "st" : d.top() == 2 ? "nd" : d.top() == 3 ? "rd" : "th")
+                << " (a short fit cannot order near ties)\n";
     std::cout << "  runners-up, and why they lost:\n";
     for (const auto& c : full)
       if (std::find(named.begin(), named.end(), &c) == named.end())

@@ -18,6 +18,16 @@ double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
   return mean > 0 ? INFINITY : mean < 0 ? -INFINITY : 0.0;
 }
 
+int LeadersToRefit(const std::vector<double>& train, int top, double tie, int max_extra) {
+  const int n = static_cast<int>(train.size());
+  int k = std::min(std::max(top, 0), n);
+  if (k == 0) return 0;
+  const double last = train[k - 1];
+  const int limit = std::min(n, k + std::max(max_extra, 0));
+  while (k < limit && train[k] <= last * (1 + tie)) ++k;
+  return k;
+}
+
 bool AtBound(double x, double lo, double hi, double fraction) {
   if (lo > 0 && hi >= 100 * lo) {
     x = std::log(std::max(x, 1e-300));

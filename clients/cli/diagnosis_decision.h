@@ -32,6 +32,11 @@ struct Decision {
   std::vector<int> named;        // indices into the fits: the explanation(s), best first
 };
 
+// How many screened candidates to refit fully: the first `top` of `train` (training errors
+// of the valid screening fits, best first), and any after them within `tie` (relative) of
+// the last of those, at most `max_extra` more. A short fit orders near ties by chance.
+int LeadersToRefit(const std::vector<double>& train, int top, double tie, int max_extra = 2);
+
 // Whether x sits within `fraction` of [lo, hi]'s width from an edge (a zero edge excepted:
 // "no effect" is a plausible value). Ranges spanning two decades or more with lo > 0 are
 // judged in log space, as their parameters are searched.

@@ -138,6 +138,18 @@ TEST(Decide, ARivalThatFitsFarBetterAndIsNotWorseHeldOutMakesItAmbiguous) {
   EXPECT_EQ(Decide(base, sharing, {}).verdict, "found");
 }
 
+TEST(LeadersToRefit, TopAndItsNearTies) {
+  // Screening errors of the foreign lag case (mm): the lag was 4th, 0.7% behind the 3rd.
+  const std::vector<double> train = {1.90, 2.01, 2.045, 2.0595, 2.2, 2.21};
+  EXPECT_EQ(LeadersToRefit(train, 3, 0.01), 4);
+  EXPECT_EQ(LeadersToRefit(train, 3, 0.0), 3);   // no ties: exactly top
+  EXPECT_EQ(LeadersToRefit(train, 3, 0.2), 5);   // at most two more
+  EXPECT_EQ(LeadersToRefit(train, 3, 0.2, 1), 4);
+  EXPECT_EQ(LeadersToRefit(train, 1, 0.1, 4), 4);  // ties are measured from the last leader
+  EXPECT_EQ(LeadersToRefit({1.0, 1.0}, 5, 0.01), 2);  // fewer candidates than top
+  EXPECT_EQ(LeadersToRefit({}, 3, 0.01), 0);
+}
+
 TEST(AtBound, EdgesButNotZero) {
   EXPECT_TRUE(AtBound(-0.3, -0.3, 0.3));    // a slope at the catalog's limit
   EXPECT_TRUE(AtBound(49.5, 0, 50));        // within 2% of the top
