@@ -599,9 +599,43 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (verdict == "ambiguous")
     for (const auto* c : named)
       if (const auto* e = effects::FindEffect(c->effects[0])) experiment += e->experiment + " ";
-  absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"located\": ", located, ", \"experiment\": ", Quote(experiment),
-                  ", \"corrected_model\": ", Quote(corrected), ", \"compared_samples\": ", n,
-                  "}\n");
+  // The figure's overlays: the baseline and the named explanation (or, with none named, the
+  // fit closest held out) simulated on the held-out recordings.
+  const Candidate* shown = named.empty() ? nullptr : named[0];
+  if (!shown)
+    for (const auto& c : full)
+      if (c.ok && std::isfinite(c.held) && (!shown || c.held < shown->held)) shown = &c;
+  std::string overlay = "{\"baseline_eval\": ";
+  if (std::isfinite(HeldOutError(base, held_files, d, dir + "/baseline-held")))
+    absl::StrAppend(&overlay, Quote(dir + "/baseline-held/eval.json"));
+  else
+    absl::StrAppend(&overlay, "null");
+  if (shown && std::isfinite(HeldOutError(*shown, held_files, d, dir + "/explanation-held")))
+    absl::StrAppend(&overlay, ", \"other_eval\": ", Quote(dir + "/explanation-held/eval.json"),
+                    ", \"other\": ", Quote(named.empty() ? "closest rejected: " + shown->label
+                                                          : shown->label));
+  absl::StrAppend(&overlay, "}");
+  absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"located\": ", located,
+                  ", \"experiment\": ", Quote(experiment), ", \"corrected_model\": ",
+                  Quote(corrected), ", \"compared_samples\": ", n, ", \"rule\": {\"margin\": ",
+                  Num(rule.margin), ", \"held_out_gain\": ", Num(rule.held_out_gain),
+                  ", \"paired_t\": ", Num(rule.paired_t), ", \"pair_gain\": ",
+                  Num(rule.pair_gain), "}, \"overlay\": ", overlay);
+  // The figures: drawn from the report itself, then listed in it (only those written).
+  std::ofstream(dir + "/diagnosis.json") << json << "}\n";
+  std::vector<std::string> figures;
+  if (std::filesystem::exists(dir + "/located.svg")) figures.push_back(dir + "/located.svg");
+  if (RunPlotScript({"diagnosis", "--report", dir + "/diagnosis.json", "--out",
+                     dir + "/diagnosis.svg"}) == 0)
+    figures.push_back(dir + "/diagnosis.svg");
+  else
+    std::cerr << "gaitforge: warning: the diagnosis figure could not be drawn "
+                 "(clients/python/gaitforge_plot.py diagnosis; needs python3-matplotlib)\n";
+  absl::StrAppend(&json, ", \"figures\": [",
+                  absl::StrJoin(figures, ", ", [](std::string* o, const std::string& f) {
+                    o->append(Quote(f));
+                  }),
+                  "]}\n");
   std::ofstream(dir + "/diagnosis.json") << json;
   if (g.json) {
     std::cout << json;
@@ -634,6 +668,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       std::cout << "  corrected model: " << corrected << "\n";
     }
     std::cout << "  where the mismatch lives: see " << dir << "/located.json and located.svg\n";
+    if (std::find(figures.begin(), figures.end(), dir + "/diagnosis.svg") != figures.end())
+      std::cout << "  held-out errors and overlays, before and after: " << dir
+                << "/diagnosis.svg\n";
     if (static_cast<int>(singles) > d.top())
       std::cout << "  refitted " << singles << " leaders of the screening, not " << d.top()
                 << ": the last within " << 100 * d.screening_tie() << "% of the " << d.top()

@@ -6,10 +6,14 @@
   caterpillar  the caterpillar paper's figures from the JSON `gaitforge report` writes:
                gait diagrams of the best gaits (paper 000 Fig. 8), distance per cycle as
                their period is scaled (Fig. 13), and the travelling-wave baseline (Fig. 14).
+  calibration  a calibration study's overlays, errors and distance ratios (`gaitforge report`).
+  diagnosis    the gap finder's held-out errors and overlays (gaitforge_diagnosis_figure.py).
 
 Usage:
   gaitforge_plot.py fitness --history HISTORY.json --out FILE.svg [--title TEXT]
   gaitforge_plot.py caterpillar --report REPORT.json --out-prefix PREFIX
+  gaitforge_plot.py calibration --report CALIBRATION.json --out-prefix PREFIX
+  gaitforge_plot.py diagnosis --report DIAGNOSIS.json --out FILE.svg
 
 The `gaitforge plot ID` command calls this script; run it under /usr/bin/python3 (Debian's
 python3-matplotlib).
@@ -271,6 +275,12 @@ def calibration(args):
     return 0
 
 
+def diagnosis(args):
+    import gaitforge_diagnosis_figure
+    print(gaitforge_diagnosis_figure.draw(args.report, args.out))
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     sub = ap.add_subparsers(dest="figure", required=True)
@@ -288,6 +298,10 @@ def main():
     k.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
     k.add_argument("--out-prefix", required=True, help="files PREFIX-overlays.svg etc.")
     k.set_defaults(run=calibration)
+    g = sub.add_parser("diagnosis", help="the gap finder's figure from its diagnosis.json")
+    g.add_argument("--report", required=True, help="the diagnosis.json `gaitforge diagnose` writes")
+    g.add_argument("--out", required=True, help="image file (.svg or .png)")
+    g.set_defaults(run=diagnosis)
     args = ap.parse_args()
     return args.run(args)
 

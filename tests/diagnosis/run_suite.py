@@ -12,8 +12,8 @@ the concealed one, and the held-out error before and after.
 (bench/diagnosis/rig2d.py) with effects in forms of their own; their answers list every
 catalog id that counts as right (`accept`).
 
---check: exit 1 unless every case gets the right verdict and effect and every runner-up
-says why it lost (the ctest test);
+--check: exit 1 unless every case gets the right verdict and effect, every runner-up
+says why it lost and both figures (located.svg, diagnosis.svg) are written (the ctest test);
 without it the script is the benchmark (confusion matrix, magnitude errors, times).
 
 --rescore A.json,B.json: no diagnosis; score the stored results of earlier runs (their
@@ -59,7 +59,19 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
         out = json.loads(r.stdout)
         out["case"] = case
         out["wall_seconds"] = wall
+        # The report's figures (located.svg, diagnosis.svg): listed, written, SVG.
+        out["figures_missing"] = [name for name in ("located.svg", "diagnosis.svg")
+                                  if not any(p.endswith("/" + name) and _is_svg(os.path.join(d, p))
+                                             for p in out.get("figures", []))]
         return out
+
+
+def _is_svg(path):
+    try:
+        with open(path) as f:
+            return "<svg" in f.read(4096)
+    except OSError:
+        return False
 
 
 def score(result, answer):
@@ -219,7 +231,11 @@ def main():
                    if not u.get("why_not") and u["id"] not in {e["id"] for e in r.get("effects", [])}]
     if unexplained:
         print("runners-up without a reason: " + ", ".join(unexplained), file=sys.stderr)
-    if a.check and (unexplained or not all(s["correct"] for s in scores)):
+    no_figures = [f"{r['case']}: {', '.join(r['figures_missing'])}"
+                  for r in ([] if a.rescore else results) if r.get("figures_missing")]
+    if no_figures:
+        print("figures missing: " + "; ".join(no_figures), file=sys.stderr)
+    if a.check and (unexplained or no_figures or not all(s["correct"] for s in scores)):
         return 1
     return 0
 

@@ -144,6 +144,7 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
            {"weighting: both\n", "field 'weighting': 'both' is not one of equal, floor"},
            {"error: wiggle\n", "field 'error': one of shape, pointwise, stats"},
            {"top: 0\n", "field 'top': out of range [1, 20]"},
+           {"screening_tie: 0.5\n", "field 'screening_tie': out of range [0, 0.2]"},
            {"candidates: [ground.wobble]\n", "field 'candidates[0]': 'ground.wobble'"}}) {
     WriteFile(dir.File("d.yaml"), head + extra);
     auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " diagnose d.yaml");
