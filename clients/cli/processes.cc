@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,9 +24,16 @@ std::string SiblingBinary(const std::string& name) {
 }
 
 pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
+  const pid_t parent = getpid();
   pid_t pid = fork();
   if (pid != 0) return pid;
   // Child: own process group member of ours; signals from the terminal reach it too.
+  // A private coordinator or worker must not outlive the command that started it, however
+  // that command ends (kill -9, OOM killer): an orphaned coordinator would keep the
+  // database locked. SIGTERM shuts it down cleanly; a worker drains. (Linux: the signal
+  // comes when the forking thread ends; Spawn is called from the main thread only.)
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) _exit(1);  // the parent died before prctl
   int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   if (fd >= 0) {
     dup2(fd, 1);

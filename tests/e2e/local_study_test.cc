@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <thread>
 
 #include "clients/cli/cli.h"
 #include "grpc/health/v1/health.grpc.pb.h"
@@ -204,6 +205,54 @@ TEST(EndToEnd, LocalRunsTheEmbeddedDefaultAndLeavesItQueryable) {
   auto list = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " list");
   EXPECT_EQ(list.exit_code, 0) << list.err;
   EXPECT_NE(list.out.find("completed"), std::string::npos) << list.out;
+}
+
+// The private coordinator and workers of `gaitforge local` die with it however it ends
+// (here kill -9): nothing is left holding the database, `resume` finishes the study, and
+// the result is the one an uninterrupted run gives.
+TEST(EndToEnd, AKilledLocalCommandLeavesNoOrphansAndResumesToTheSameStudy) {
+  TempDir dir;
+  WriteFile(dir.File("spec.yaml"), "name: orphan\nseed: 7\npopulation: 40\ngenerations: 100\n"
+                                   "objective:\n  name: analytic.rastrigin\n"
+                                   "  params: {work_us: 5000}\n");
+  const std::string killed = dir.File("killed.db"), whole = dir.File("whole.db");
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " --db ";
+  RunCommand("cd " + dir.path() + " && { " + Bin("gaitforge") + " --db " + killed +
+             " local spec.yaml --workers 2 > local.out 2> local.err & echo $! > local.pid; }");
+  const std::string pid = std::to_string(std::stoi(ReadFile(dir.File("local.pid"))));
+  // Wait until generations are stored (a read-only coordinator answers beside the writer).
+  std::string id;
+  for (int i = 0; i < 600 && id.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    auto list = RunCommand(cli + killed + " list --json");
+    const size_t at = list.out.find("\"generations_done\":");
+    if (at == std::string::npos || std::atoi(list.out.c_str() + at + 19) < 3) continue;
+    const size_t from = list.out.find("\"study_id\":\"") + 12;
+    id = list.out.substr(from, list.out.find('"', from) - from);
+  }
+  ASSERT_FALSE(id.empty()) << ReadFile(dir.File("local.err"));
+  ASSERT_EQ(RunCommand("kill -9 " + pid).exit_code, 0);
+  // Its coordinator (the only process with this database on its command line) and workers
+  // (ids local-I-PID) get SIGTERM from the kernel and exit.
+  // (The pattern is read from a file so that the shell running pgrep does not match it.)
+  WriteFile(dir.File("orphans.re"), killed + "|local-[0-9]+-" + pid + "( |$)");
+  const std::string orphans = "pgrep -f -- \"$(cat " + dir.File("orphans.re") + ")\"";
+  bool gone = false;
+  for (int i = 0; i < 600 && !gone; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    gone = RunCommand(orphans).out.empty();
+  }
+  EXPECT_TRUE(gone) << RunCommand("ps -ef | grep -e " + pid + " -e killed.db").out;
+  auto resume = RunCommand(cli + killed + " resume " + id + " --workers 2");
+  EXPECT_EQ(resume.exit_code, 0) << resume.err;
+  EXPECT_EQ(Rows(killed, "SELECT state, generations_done FROM studies")[0], "completed|100|");
+
+  auto uninterrupted = RunCommand(cli + whole + " local spec.yaml --workers 2");
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.err;
+  const std::string q =
+      "SELECT generation, member, hex(genes), valid, fitness, carried FROM individuals "
+      "ORDER BY generation, member";
+  EXPECT_EQ(Rows(killed, q), Rows(whole, q));
 }
 
 TEST(EndToEnd, CaterpillarStudyRunsInOdeAndReportsThePapersFigures) {
