@@ -120,7 +120,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
   if (!d->has_full_evaluations()) d->set_full_evaluations(480);
   if (!d->has_top()) d->set_top(3);
-  if (!d->has_screening_tie()) d->set_screening_tie(0.01);
+  if (!d->has_screening_tie()) d->set_screening_tie(0);
   if (!d->has_try_pairs()) d->set_try_pairs(true);
   if (d->error().empty()) d->set_error("shape");
   if (d->weighting().empty()) d->set_weighting("floor");
@@ -491,7 +491,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   });
 
   // 4. Full fits of the leaders, then pairs of them.
-  // Near ties with the last leader are refitted too: a short fit cannot order them.
+  // With screening_tie > 0, near ties with the last leader are refitted too.
   std::vector<double> screened_train;
   for (const auto& c : screened)
     if (c.ok) screened_train.push_back(c.train);
