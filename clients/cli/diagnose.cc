@@ -31,8 +31,10 @@
 #include "clients/cli/diagnosis_decision.h"
 #include "clients/cli/processes.h"
 #include "gaitforge/v1/diagnosis.pb.h"
+#include "google/protobuf/util/message_differencer.h"
 #include "services/recording/recording.h"
 #include "services/spec/spec_loader.h"
+#include "services/spec/spec_validation.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::cli {
@@ -181,17 +183,45 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
 int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
                int evaluations, const std::vector<std::string>& train,
                const std::vector<std::string>& held, const std::string& weights,
-               const GlobalOptions& g, const char* stage) {
-  for (auto* c : cands) {
+               const GlobalOptions& g, const char* stage, int* reused_total) {
+  // A fit already in the database with the same spec (seed included) is reused, not run
+  // again: a study's result depends only on its spec and seed, so an interrupted diagnosis
+  // run again picks up its completed fits and waits for its interrupted ones (an embedded
+  // coordinator resumes them on start) instead of computing them twice.
+  v1::ListStudiesResponse existing;
+  {
     grpc::ClientContext ctx;
     SetDeadline(ctx, g.timeout_s);
+    grpc::Status s = conn.study().ListStudies(&ctx, v1::ListStudiesRequest(), &existing);
+    if (!s.ok()) return ReportRpcError(s, "diagnose: list studies");
+  }
+  int reused = 0;
+  for (auto* c : cands) {
     v1::CreateStudyRequest req;
     *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held, weights);
+    v1::StudySpec normalised = req.spec();
+    spec::ApplyDefaults(&normalised);
+    c->study_id.clear();
+    for (const auto& st : existing.studies())
+      if ((st.state() == v1::STUDY_STATE_COMPLETED || st.state() == v1::STUDY_STATE_RUNNING) &&
+          google::protobuf::util::MessageDifferencer::Equals(st.spec(), normalised) &&
+          (c->study_id.empty() || st.state() == v1::STUDY_STATE_COMPLETED))
+        c->study_id = st.study_id();
+    if (!c->study_id.empty()) {
+      ++reused;
+      continue;
+    }
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
     v1::CreateStudyResponse resp;
     grpc::Status s = conn.study().CreateStudy(&ctx, req, &resp);
     if (!s.ok()) return ReportRpcError(s, absl::StrCat("diagnose: ", c->label));
     c->study_id = resp.study().study_id();
   }
+  if (reused && !g.json)
+    std::cerr << stage << ": " << reused << " of " << cands.size()
+              << " fits reused from the database (same spec and seed)\n";
+  *reused_total += reused;
   int shown = -1;
   const bool tty = isatty(STDERR_FILENO);
   for (;;) {
@@ -444,9 +474,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   }
 
   // 1. Baseline.
+  int reused = 0;  // fits found in the database with the same spec, not run again
   Candidate base = Make(d, {});
   if (int c = RunStudies(*conn, d, {&base}, d.full_evaluations(), train, held, weights_option, g,
-                         "baseline"); c)
+                         "baseline", &reused); c)
     return c;
   if (!base.ok) {
     std::cerr << "gaitforge: the baseline fit failed: " << base.reason << "\n";
@@ -483,7 +514,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   std::vector<Candidate*> ptrs;
   for (auto& c : screened) ptrs.push_back(&c);
   if (int c = RunStudies(*conn, d, ptrs, d.screening_evaluations(), train, held, weights_option, g,
-                         "screening"); c)
+                         "screening", &reused); c)
     return c;
   std::sort(screened.begin(), screened.end(), [](const Candidate& a, const Candidate& b) {
     if (a.ok != b.ok) return a.ok;
@@ -506,7 +537,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   ptrs.clear();
   for (auto& c : full) ptrs.push_back(&c);
   if (int c = RunStudies(*conn, d, ptrs, d.full_evaluations(), train, held, weights_option, g,
-                         "refitting"); c)
+                         "refitting", &reused); c)
     return c;
   const size_t base_genes = d.base_parameters_size();
   for (auto& c : full) {
@@ -615,7 +646,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                     ", \"other\": ", Quote(named.empty() ? "closest rejected: " + shown->label
                                                           : shown->label));
   absl::StrAppend(&overlay, "}");
-  absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"located\": ", located,
+  absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"reused_fits\": ", reused,
+                  ", \"located\": ", located,
                   ", \"experiment\": ", Quote(experiment), ", \"corrected_model\": ",
                   Quote(corrected), ", \"compared_samples\": ", n, ", \"rule\": {\"margin\": ",
                   Num(rule.margin), ", \"held_out_gain\": ", Num(rule.held_out_gain),

@@ -8,6 +8,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/e2e/cluster.h"
@@ -152,6 +153,56 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
     EXPECT_NE(r.err.find("d.yaml"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
+}
+
+// A diagnosis interrupted by kill -9 and run again reuses the fits already in its database
+// (same spec and seed: same result), creates no duplicate study, and reaches exactly the
+// report of an uninterrupted run.
+TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
+  TempDir dir;
+  const std::string cases = std::string(GAITFORGE_SOURCE_DIR) + "/tests/diagnosis/cases/tether-hose/";
+  WriteFile(dir.File("d.yaml"), "name: mini\nseed: 3\ntraining: [" + cases + "train/gait-a.csv, " +
+                                    cases + "train/gait-b.csv]\nheld_out: [" + cases +
+                                    "held_out/gait-c.csv]\ncandidates: [tether.constant, "
+                                    "ground.slope]\nscreening_evaluations: 16\n"
+                                    "full_evaluations: 24\ntop: 2\n");
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  auto whole = RunCommand(cli + " --db whole.db --out whole diagnose d.yaml --json --workers 2");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  RunCommand("cd " + dir.path() + " && { " + Bin("gaitforge") +
+             " --db cut.db --out cut diagnose d.yaml --json --workers 2 > cut.out 2> cut.err & "
+             "echo $! > cut.pid; }");
+  const std::string pid = std::to_string(std::stoi(ReadFile(dir.File("cut.pid"))));
+  bool some_done = false;
+  for (int i = 0; i < 1200 && !some_done; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    some_done = RunCommand(cli + " --db cut.db list --json").out.find("STUDY_STATE_COMPLETED") !=
+                std::string::npos;
+  }
+  ASSERT_TRUE(some_done) << ReadFile(dir.File("cut.err"));
+  ASSERT_EQ(RunCommand("kill -9 " + pid).exit_code, 0);
+  EXPECT_TRUE(ReadFile(dir.File("cut.out")).empty()) << "it had finished before the kill";
+
+  auto again = RunCommand(cli + " --db cut.db --out cut diagnose d.yaml --json --workers 2");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_GE(JsonNumber(again.out, R"("reused_fits":)"), 1) << again.out;
+  EXPECT_EQ(JsonNumber(whole.out, R"("reused_fits":)"), 0) << whole.out;
+  // The verdict, effects, errors, runners-up and screening, byte for byte.
+  auto report = [](const std::string& out) {
+    const size_t from = out.find("\"verdict\"");
+    return out.substr(from, out.find("\"refitted_singles\"") - from);
+  };
+  EXPECT_EQ(report(again.out), report(whole.out));
+  auto studies = [&](const std::string& db) {
+    const std::string out = RunCommand(cli + " --db " + db + " list --json").out;
+    int n = 0;
+    for (size_t at = out.find("\"study_id\""); at != std::string::npos;
+         at = out.find("\"study_id\"", at + 1))
+      ++n;
+    return n;
+  };
+  EXPECT_EQ(studies("cut.db"), studies("whole.db"));  // no fit was run twice
 }
 
 }  // namespace
