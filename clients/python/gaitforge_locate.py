@@ -65,11 +65,21 @@ STATE_TEXT = {"ground": "on the ground", "airborne": "airborne", "forward": "mov
 
 
 def read_csv(path):
+    """Columns of a recording (or simulated markers) CSV. Empty or NaN channel cells
+    (occluded markers) are bridged linearly in time between the channel's neighbours, ends
+    held, as gaitforge's parser does (docs/recording-format.md, "Missing cells")."""
     with open(path) as f:
         header = [h.strip() for h in f.readline().lstrip("\ufeff").strip().split(",")]
         rows = [line.strip().split(",") for line in f if line.strip()]
-    data = np.array([[float(c) for c in row] for row in rows], dtype=float)
-    return {h: data[:, i] for i, h in enumerate(header)}
+    data = np.array([[float(c) if c.strip() else np.nan for c in row] for row in rows],
+                    dtype=float)
+    cols = {h: data[:, i] for i, h in enumerate(header)}
+    t = cols.get("t")
+    for h, v in cols.items():
+        gap = np.isnan(v)
+        if h != "t" and t is not None and gap.any() and not gap.all():
+            v[gap] = np.interp(t[gap], t[~gap], v[~gap])
+    return cols
 
 
 def resolve(path, base):

@@ -171,12 +171,9 @@ def caterpillar(args):
 
 
 def read_csv(path):
-    import csv
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    head, data = rows[0], rows[1:]
-    cols = {h: [float(r[i]) for r in data] for i, h in enumerate(head)}
-    return cols
+    """Columns as lists; occluded (empty or NaN) cells bridged as gaitforge_locate does."""
+    import gaitforge_locate
+    return {h: v.tolist() for h, v in gaitforge_locate.read_csv(path).items()}
 
 
 def interp(xs, ys, x):
