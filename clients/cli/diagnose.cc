@@ -31,6 +31,8 @@
 #include "clients/cli/diagnosis_decision.h"
 #include "clients/cli/processes.h"
 #include "gaitforge/v1/diagnosis.pb.h"
+#include "google/protobuf/struct.pb.h"
+#include "google/protobuf/util/json_util.h"
 #include "google/protobuf/util/message_differencer.h"
 #include "services/recording/recording.h"
 #include "services/spec/spec_loader.h"
@@ -699,7 +701,13 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       if (!experiment.empty()) std::cout << "  to tell them apart: " << experiment << "\n";
       std::cout << "  corrected model: " << corrected << "\n";
     }
-    std::cout << "  where the mismatch lives: see " << dir << "/located.json and located.svg\n";
+    // Where it showed, in the locate script's words (its summary), then the files.
+    google::protobuf::Struct where;
+    if (google::protobuf::util::JsonStringToMessage(located, &where).ok() &&
+        where.fields().count("summary"))
+      std::cout << "  where it showed: " << where.fields().at("summary").string_value() << "\n";
+    std::cout << "  where the mismatch lives, by slice: " << dir
+              << "/located.json and located.svg\n";
     if (std::find(figures.begin(), figures.end(), dir + "/diagnosis.svg") != figures.end())
       std::cout << "  held-out errors and overlays, before and after: " << dir
                 << "/diagnosis.svg\n";

@@ -171,7 +171,8 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
 
   RunCommand("cd " + dir.path() + " && { " + Bin("gaitforge") +
-             " --db cut.db --out cut diagnose d.yaml --json --workers 2 > cut.out 2> cut.err & "
+             " --db " + dir.File("cut.db") +
+             " --out cut diagnose d.yaml --json --workers 2 > cut.out 2> cut.err & "
              "echo $! > cut.pid; }");
   const std::string pid = std::to_string(std::stoi(ReadFile(dir.File("cut.pid"))));
   bool some_done = false;
@@ -183,6 +184,13 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   ASSERT_TRUE(some_done) << ReadFile(dir.File("cut.err"));
   ASSERT_EQ(RunCommand("kill -9 " + pid).exit_code, 0);
   EXPECT_TRUE(ReadFile(dir.File("cut.out")).empty()) << "it had finished before the kill";
+  // Its private coordinator gets SIGTERM when it dies and releases the database as it
+  // stops; wait for that (the pattern in a file, so the shell running pgrep does not match).
+  WriteFile(dir.File("cut.re"), "--db " + dir.File("cut.db"));
+  for (int i = 0; i < 600; ++i) {
+    if (RunCommand("pgrep -f -- \"$(cat " + dir.File("cut.re") + ")\"").out.empty()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
 
   auto again = RunCommand(cli + " --db cut.db --out cut diagnose d.yaml --json --workers 2");
   ASSERT_EQ(again.exit_code, 0) << again.err;
@@ -203,6 +211,29 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
     return n;
   };
   EXPECT_EQ(studies("cut.db"), studies("whole.db"));  // no fit was run twice
+
+  // The corrected model is ready for new gait studies: its objective section runs as one,
+  // and the hose it adds makes the same first generation of gaits travel less far.
+  ASSERT_NE(whole.out.find(R"("verdict": "found", "effects": [{"id": "tether.constant")"),
+            std::string::npos)
+      << whole.out;
+  const std::string corrected = ReadFile(dir.File("whole/mini-diagnosis/corrected-model.yaml"));
+  ASSERT_NE(corrected.find("effect.tether_force_n="), std::string::npos) << corrected;
+  const std::string gaits = "seed: 5\npopulation: 12\ngenerations: 1\n";
+  WriteFile(dir.File("with.yaml"), "name: with-hose\n" + gaits + corrected);
+  WriteFile(dir.File("without.yaml"),
+            "name: without\n" + gaits + "objective:\n  name: caterpillar.distance\n");
+  LocalCluster cluster(dir.path(), dir.File("gaits.db"));
+  ASSERT_TRUE(cluster.ok());
+  cluster.StartWorkers(2);
+  auto best = [&](const std::string& spec) {
+    auto submit = cluster.Cli("submit " + dir.File(spec));
+    EXPECT_EQ(submit.exit_code, 0) << submit.err;
+    const std::string id = submit.out.substr(0, submit.out.find('\n'));
+    EXPECT_EQ(cluster.Cli("watch " + id).exit_code, 0);
+    return JsonNumber(cluster.Cli("show " + id + " --json").out, R"("best_fitness":)");
+  };
+  EXPECT_LT(best("with.yaml"), best("without.yaml"));
 }
 
 }  // namespace
