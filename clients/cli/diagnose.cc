@@ -502,11 +502,16 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
         "--eval", dir + "/baseline-train/eval.json", "--out", dir + "/located.json", "--figure",
         dir + "/located.svg"};
     std::string ignored;
-    if (RunCapture(argv, &ignored) == 0) {
+    if (const int code = RunCapture(argv, &ignored); code == 0) {
       std::ifstream lf(dir + "/located.json");
       std::stringstream ls;
       ls << lf.rdbuf();
       if (!ls.str().empty()) located = ls.str();
+    } else {
+      // The diagnosis goes on (locating describes, it does not decide), but says so.
+      std::cerr << "gaitforge: warning: locating the mismatch failed (gaitforge_locate.py exit "
+                << code << " on " << dir << "/baseline-train/eval.json); the report has no "
+                << "'where it showed'\n";
     }
   }
 
