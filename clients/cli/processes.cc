@@ -121,6 +121,11 @@ pid_t StartCoordinator(const std::string& db, bool read_only, const std::string&
                                    "127.0.0.1:0", "--db", db, "--port-file", port_file};
   if (read_only) argv.push_back("--read-only");
   const std::string log = (std::filesystem::path(log_dir) / "coordinator.log").string();
+  // The log is shared with earlier (and perhaps still stopping) coordinators on the same
+  // directory: the words of this one start here.
+  std::error_code size_error;  // no log yet: start at 0
+  std::uintmax_t log_start = std::filesystem::file_size(log, size_error);
+  if (size_error) log_start = 0;
   pid_t pid = Spawn(argv, log);
   if (pid < 0) {
     *error = "cannot start gaitforge-coordinator";
@@ -130,12 +135,18 @@ pid_t StartCoordinator(const std::string& db, bool read_only, const std::string&
   std::filesystem::remove(port_file, ec);
   if (port < 0) {
     Stop(pid, 1);
-    // The coordinator's last words say why (a locked database, a bad path, ...).
+    // The coordinator's last words say why (a locked database, a bad path, ...): its
+    // "gaitforge-coordinator: ..." line, not a line another coordinator logged meanwhile
+    // (one that was told to stop a moment ago logs "stopped" as it releases the database).
     std::ifstream in(log);
-    std::string line, last;
-    while (std::getline(in, line))
+    in.seekg(static_cast<std::streamoff>(log_start));
+    std::string line, last, fail;
+    while (std::getline(in, line)) {
       if (!line.empty()) last = line;
-    *error = "gaitforge-coordinator did not start: " + last + " (log: " + log + ")";
+      if (line.rfind("gaitforge-coordinator: ", 0) == 0) fail = line;
+    }
+    *error = "gaitforge-coordinator did not start: " + (fail.empty() ? last : fail) +
+             " (log: " + log + ")";
     return -1;
   }
   *target = "127.0.0.1:" + std::to_string(port);
