@@ -36,7 +36,8 @@ def _error_panel(ax, rep):
     for i, (label, mean, variants, named) in enumerate(fits):
         color = "tab:red" if named else ("tab:blue" if label == "baseline" else "0.7")
         ax.bar(i, 1000 * mean, 0.6, color=color)
-        ax.plot([i] * len(variants), [1000 * v for v in variants if v is not None], "k.", ms=3)
+        dots = [1000 * v for v in variants if v is not None]  # null: a variant that failed
+        ax.plot([i] * len(dots), dots, "k.", ms=3)
     line = 1000 * (1 - rep.get("rule", {}).get("held_out_gain", 0.15)) * fits[0][1]
     ax.axhline(line, color="tab:red", ls="--", lw=1, label="baseline less 15% (the rule)")
     ax.set_xticks(range(len(fits)))

@@ -160,7 +160,8 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
 // report of an uninterrupted run.
 TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   TempDir dir;
-  const std::string cases = std::string(GAITFORGE_SOURCE_DIR) + "/tests/diagnosis/cases/tether-hose/";
+  const std::string cases =
+      std::string(GAITFORGE_SOURCE_DIR) + "/tests/diagnosis/cases/tether-hose/";
   WriteFile(dir.File("d.yaml"), "name: mini\nseed: 3\ntraining: [" + cases + "train/gait-a.csv, " +
                                     cases + "train/gait-b.csv]\nheld_out: [" + cases +
                                     "held_out/gait-c.csv]\ncandidates: [tether.constant, "
