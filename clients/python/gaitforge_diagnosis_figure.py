@@ -28,7 +28,9 @@ def _fits(rep):
     rows = [(f["id"], f["held_out"], f["held_out_variants"], f["id"] in named)
             for f in rep["effects"] + rep["runners_up"] if f.get("held_out") is not None]
     rows.sort(key=lambda r: r[1])
-    return [("baseline", err["baseline_held_out"], err["baseline_held_out_variants"], False)] + rows
+    base = err.get("baseline_held_out")
+    return [("baseline", float("nan") if base is None else base,
+             err.get("baseline_held_out_variants") or [], False)] + rows
 
 
 def _error_panel(ax, rep):
