@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -224,10 +225,15 @@ int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candida
     std::cerr << stage << ": " << reused << " of " << cands.size()
               << " fits reused from the database (same spec and seed)\n";
   *reused_total += reused;
+  // Progress: a bar over the stage's evaluation budget on a terminal, a line per finished
+  // fit otherwise.
   int shown = -1;
   const bool tty = isatty(STDERR_FILENO);
+  const auto started = std::chrono::steady_clock::now();
+  const double budget = static_cast<double>(evaluations) * cands.size();
   for (;;) {
     int done = 0;
+    double spent = 0;
     for (auto* c : cands) {
       grpc::ClientContext ctx;
       SetDeadline(ctx, g.timeout_s);
@@ -236,11 +242,23 @@ int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candida
       v1::StudySummary sum;
       grpc::Status s = conn.study().GetStudy(&ctx, req, &sum);
       if (!s.ok()) return ReportRpcError(s, "diagnose: watch " + c->study_id);
-      if (sum.state() != v1::STUDY_STATE_RUNNING) ++done;
+      const bool finished = sum.state() != v1::STUDY_STATE_RUNNING;
+      done += finished;
+      // A fit that stopped early (CMA-ES tolerances) has used its budget.
+      spent += finished ? evaluations : std::min<double>(sum.evaluations(), evaluations);
     }
-    if (!g.json && done != shown) {
-      std::cerr << (tty ? "\r" : "") << stage << ": " << done << "/" << cands.size()
-                << " fits done" << (tty ? "   " : "\n") << std::flush;
+    const double frac = budget > 0 ? spent / budget : 1.0;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const std::string line = absl::StrFormat(
+        "%s: %d/%d fits done, %.0f/%.0f evaluations, ETA %s", stage, done, cands.size(), spent,
+        budget, frac > 0.02 ? FormatDuration(elapsed * (1 - frac) / frac) : std::string("--"));
+    if (!g.json && tty) {
+      const int width = 30, fill = static_cast<int>(std::min(1.0, frac) * width);
+      std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] "
+                << line << "   " << std::flush;
+    } else if (!g.json && done != shown) {
+      std::cerr << line << "\n";
       shown = done;
     }
     if (done == static_cast<int>(cands.size())) break;
