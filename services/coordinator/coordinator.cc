@@ -493,6 +493,8 @@ absl::StatusOr<v1::StudySummary> Coordinator::CancelStudy(const std::string& id)
   return GetStudy(id);
 }
 
+absl::Status Coordinator::Flush() { return store_->Flush(); }
+
 absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::string& id,
                                                                   std::optional<int> generation) {
   if (auto f = store_->Flush(); !f.ok()) return f;

@@ -70,6 +70,8 @@ class Coordinator {
   absl::StatusOr<v1::ListIndividualsResponse> Individuals(const std::string& id, int generation);
   // Current progress and a version that changes with every commit or state change.
   absl::StatusOr<std::pair<v1::Progress, int64_t>> Progress(const std::string& id);
+  // Waits until every write accepted so far is committed to the database.
+  absl::Status Flush();
   // Blocks until the version differs from `seen`, or timeout. Returns the new version.
   int64_t WaitForChange(int64_t seen, int timeout_ms);
 

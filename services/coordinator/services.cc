@@ -60,6 +60,11 @@ grpc::Status StudyServiceImpl::WatchStudy(grpc::ServerContext* ctx,
     if (!p.ok()) return ToGrpc(p.status());
     // Another coordinator may own the study (this one reads the file): compare content,
     // not only this process's version.
+    // The end of a study is durable before the client hears of it: a script that reads
+    // the database when `watch` returns finds every row (writes are otherwise group-
+    // committed behind the progress, docs/design.md "Durability").
+    if (p->first.state() != v1::STUDY_STATE_RUNNING)
+      if (auto f = c_.Flush(); !f.ok()) return ToGrpc(f);
     std::string now = p->first.SerializeAsString();
     if (now != sent) {
       if (!writer->Write(p->first)) return grpc::Status::OK;  // client went away
