@@ -1,0 +1,287 @@
+// The gap finder's fits (clients/cli/diagnosis_fits.h).
+#include "clients/cli/diagnosis_fits.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "clients/cli/processes.h"
+#include "google/protobuf/util/message_differencer.h"
+#include "services/spec/spec_validation.h"
+#include "workers/effects/effects.h"
+
+namespace gaitforge::cli::diagnosis {
+
+// Numerically irrelevant variants of the model: the canonical caterpillar hops, so these move
+// its travel by tens of percent (../shared/robots/caterpillar.md). Every held-out error is
+// the mean over them, and a discovery must win in the paired comparison across them.
+const std::vector<std::string>& NumericVariants() {
+  static const std::vector<std::string> v = {
+      "", "simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
+      "simulation.timestep_s=0.00125", "ground.contact_cfm=3e-6", "ground.contact_cfm=3e-5"};
+  return v;
+}
+
+namespace {
+
+v1::GeneBound Bound(const std::string& name, double lo, double hi) {
+  v1::GeneBound b;
+  b.set_name(name);
+  b.set_lo(lo);
+  b.set_hi(hi);
+  return b;
+}
+
+}  // namespace
+
+Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids) {
+  Candidate c;
+  c.effects = effect_ids;
+  c.label = effect_ids.empty() ? "baseline" : absl::StrJoin(effect_ids, "+");
+  for (const auto& b : d.base_parameters()) {
+    c.genes.push_back(b);
+    c.mean0.push_back(0.5 * (b.lo() + b.hi()));
+  }
+  for (const auto& id : effect_ids) {
+    for (const auto& p : effects::FindEffect(id)->params) {
+      c.genes.push_back(Bound(p.name, p.lo, p.hi));
+      c.mean0.push_back(p.nominal);
+    }
+  }
+  if (d.time_offset_range_s() > 0) {
+    c.genes.push_back(Bound("nuisance.time_offset_s", -d.time_offset_range_s(),
+                            d.time_offset_range_s()));
+    c.mean0.push_back(0.0);
+  }
+  c.k = static_cast<int>(c.genes.size());
+  return c;
+}
+
+v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
+                       const std::vector<std::string>& train, const std::vector<std::string>& held,
+                       const std::string& weights) {
+  v1::StudySpec s;
+  s.set_name(absl::StrCat(d.name(), "-", c.label));
+  s.set_seed(d.seed());
+  s.set_engine("cmaes");
+  s.set_population(8);
+  s.set_generations(100000);
+  auto* o = s.mutable_objective();
+  o->set_name("caterpillar.calibration");
+  (*o->mutable_options())["error"] = d.error();
+  if (!weights.empty()) (*o->mutable_options())["weights"] = weights;
+  for (const auto& h : train) o->add_recordings(h);
+  for (const auto& h : held) o->add_held_out(h);
+  for (const auto& b : c.genes) *s.add_bounds() = b;
+  auto* cm = s.mutable_cmaes();
+  for (double m : c.mean0) cm->add_mean0(m);
+  cm->set_sigma0(0.25);
+  cm->set_restarts("none");
+  cm->set_max_evaluations(evaluations);
+  return s;
+}
+
+// Creates the studies and waits for all of them; fills study_id, values, spread, train.
+int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
+               int evaluations, const std::vector<std::string>& train,
+               const std::vector<std::string>& held, const std::string& weights,
+               const GlobalOptions& g, const char* stage, int* reused_total) {
+  // A fit already in the database with the same spec (seed included) is reused, not run
+  // again: a study's result depends only on its spec and seed, so an interrupted diagnosis
+  // run again picks up its completed fits and waits for its interrupted ones (an embedded
+  // coordinator resumes them on start) instead of computing them twice.
+  v1::ListStudiesResponse existing;
+  {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    grpc::Status s = conn.study().ListStudies(&ctx, v1::ListStudiesRequest(), &existing);
+    if (!s.ok()) return ReportRpcError(s, "diagnose: list studies");
+  }
+  int reused = 0;
+  for (auto* c : cands) {
+    v1::CreateStudyRequest req;
+    *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held, weights);
+    v1::StudySpec normalised = req.spec();
+    spec::ApplyDefaults(&normalised);
+    c->study_id.clear();
+    for (const auto& st : existing.studies())
+      if ((st.state() == v1::STUDY_STATE_COMPLETED || st.state() == v1::STUDY_STATE_RUNNING) &&
+          google::protobuf::util::MessageDifferencer::Equals(st.spec(), normalised) &&
+          (c->study_id.empty() || st.state() == v1::STUDY_STATE_COMPLETED))
+        c->study_id = st.study_id();
+    if (!c->study_id.empty()) {
+      ++reused;
+      continue;
+    }
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::CreateStudyResponse resp;
+    grpc::Status s = conn.study().CreateStudy(&ctx, req, &resp);
+    if (!s.ok()) return ReportRpcError(s, absl::StrCat("diagnose: ", c->label));
+    c->study_id = resp.study().study_id();
+  }
+  if (reused && !g.json)
+    std::cerr << stage << ": " << reused << " of " << cands.size()
+              << " fits reused from the database (same spec and seed)\n";
+  *reused_total += reused;
+  // Progress: a bar over the stage's evaluation budget on a terminal, a line per finished
+  // fit otherwise.
+  int shown = -1;
+  const bool tty = isatty(STDERR_FILENO);
+  const auto started = std::chrono::steady_clock::now();
+  const double budget = static_cast<double>(evaluations) * cands.size();
+  for (;;) {
+    int done = 0;
+    double spent = 0;
+    for (auto* c : cands) {
+      grpc::ClientContext ctx;
+      SetDeadline(ctx, g.timeout_s);
+      v1::GetStudyRequest req;
+      req.set_study_id(c->study_id);
+      v1::StudySummary sum;
+      grpc::Status s = conn.study().GetStudy(&ctx, req, &sum);
+      if (!s.ok()) return ReportRpcError(s, "diagnose: watch " + c->study_id);
+      const bool finished = sum.state() != v1::STUDY_STATE_RUNNING;
+      done += finished;
+      // A fit that stopped early (CMA-ES tolerances) has used its budget.
+      spent += finished ? evaluations : std::min<double>(sum.evaluations(), evaluations);
+    }
+    const double frac = budget > 0 ? spent / budget : 1.0;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const std::string line = absl::StrFormat(
+        "%s: %d/%d fits done, %.0f/%.0f evaluations, ETA %s", stage, done, cands.size(), spent,
+        budget, frac > 0.02 ? FormatDuration(elapsed * (1 - frac) / frac) : std::string("--"));
+    if (!g.json && tty) {
+      const int width = 30, fill = static_cast<int>(std::min(1.0, frac) * width);
+      std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] "
+                << line << "   " << std::flush;
+    } else if (!g.json && done != shown) {
+      std::cerr << line << "\n";
+      shown = done;
+    }
+    if (done == static_cast<int>(cands.size())) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  if (!g.json && tty) std::cerr << "\n";
+  for (auto* c : cands) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::GetHallOfFameRequest req;
+    req.set_study_id(c->study_id);
+    v1::GetHallOfFameResponse hof;
+    grpc::Status s = conn.study().GetHallOfFame(&ctx, req, &hof);
+    if (!s.ok() || hof.entries_size() == 0 || !hof.entries(0).individual().evaluation().valid()) {
+      c->reason = s.ok() ? "no valid fit" : s.error_message();
+      continue;
+    }
+    const auto& best = hof.entries(0).individual();
+    c->values.assign(best.genes().begin(), best.genes().end());
+    c->spread.assign(hof.spread().begin(), hof.spread().end());
+    c->train = -best.evaluation().fitness();
+    c->ok = true;
+  }
+  return kOk;
+}
+
+std::string SetArg(const Candidate& c) {
+  std::vector<std::string> parts;
+  for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
+    parts.push_back(absl::StrFormat("%s=%.17g", c.genes[i].name(), c.values[i]));
+  return absl::StrJoin(parts, ",");
+}
+
+// Error of calibration-eval on each of the files with the candidate's fit; empty on failure.
+std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string>& files,
+                               const v1::DiagnosisSpec& d, const std::string& out_dir,
+                               const std::string& extra_set) {
+  std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
+                                   "--recordings", absl::StrJoin(files, ","), "--options",
+                                   "error=" + d.error()};
+  std::string set = SetArg(c);
+  if (!extra_set.empty()) set += (set.empty() ? "" : ",") + extra_set;
+  if (!set.empty()) argv.insert(argv.end(), {"--set", set});
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    argv.insert(argv.end(), {"--out-dir", out_dir});
+  }
+  std::string out;
+  if (RunCapture(argv, &out) != 0) return {};
+  std::vector<double> errors;
+  for (size_t at = out.find("\"error\": "); at != std::string::npos;
+       at = out.find("\"error\": ", at + 1))
+    errors.push_back(std::strtod(out.c_str() + at + 9, nullptr));
+  if (!out_dir.empty()) std::ofstream(out_dir + "/eval.json") << out;
+  return errors;
+}
+
+// Their mean; NAN on failure.
+double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
+                    const v1::DiagnosisSpec& d, const std::string& out_dir,
+                    const std::string& extra_set) {
+  const std::vector<double> errors = FileErrors(c, files, d, out_dir, extra_set);
+  double sum = 0;
+  for (double e : errors) sum += e;
+  return errors.empty() ? NAN : sum / errors.size();
+}
+
+// weighting: floor. The spread (sd) of the uncalibrated model's error on each training file
+// over the numeric variants, and weights 1 / sd^2 (sd at least a tenth of the median, so a
+// file the variants agree on cannot take all the weight), scaled to a mean of 1. Empty when
+// an evaluation fails.
+std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
+                                 std::vector<double>* floors) {
+  const auto& variants = NumericVariants();
+  std::vector<std::vector<double>> e(variants.size());
+  for (size_t v = 0; v < variants.size(); ++v) {
+    e[v] = FileErrors(Make(d, {}), files, d, "", variants[v]);
+    if (e[v].size() != files.size()) return {};
+  }
+  floors->assign(files.size(), 0);
+  for (size_t f = 0; f < files.size(); ++f) {
+    double mean = 0, sq = 0;
+    for (const auto& ev : e) mean += ev[f] / e.size();
+    for (const auto& ev : e) sq += (ev[f] - mean) * (ev[f] - mean);
+    (*floors)[f] = std::sqrt(sq / (e.size() - 1));
+  }
+  std::vector<double> sorted = *floors;
+  std::sort(sorted.begin(), sorted.end());
+  const double least = 0.1 * sorted[sorted.size() / 2];
+  std::vector<double> w;
+  double sum = 0;
+  for (double sd : *floors) {
+    w.push_back(1 / std::max(sd * sd, least * least + 1e-30));
+    sum += w.back();
+  }
+  for (double& x : w) x *= w.size() / sum;
+  return w;
+}
+
+// Held-out error of c under every numeric variant, two at a time; c.held is their mean (NAN if
+// any variant fails: a fit that only works at one timestep is no fit).
+void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d) {
+  const auto& variants = NumericVariants();
+  c.held_variants.assign(variants.size(), NAN);
+  for (size_t i = 0; i < variants.size(); i += 2) {
+    std::thread t;
+    if (i + 1 < variants.size())
+      t = std::thread([&, i] { c.held_variants[i + 1] = HeldOutError(c, files, d, "", variants[i + 1]); });
+    c.held_variants[i] = HeldOutError(c, files, d, "", variants[i]);
+    if (t.joinable()) t.join();
+  }
+  double sum = 0;
+  for (double e : c.held_variants) sum += e;
+  c.held = sum / variants.size();
+}
+
+}  // namespace gaitforge::cli::diagnosis

@@ -1,0 +1,66 @@
+// The gap finder's fits: each candidate explanation (the base model plus effects) as a
+// calibration study on the coordinator, and its errors on recordings scored locally with
+// `gaitforge-sim calibration-eval` under numerically irrelevant variants of the model.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "clients/cli/cli.h"
+#include "clients/cli/diagnosis_decision.h"
+#include "gaitforge/v1/diagnosis.pb.h"
+
+namespace gaitforge::cli::diagnosis {
+
+// A fitted explanation: its FitScore (effects, ok, bic, held, held_variants) and the study.
+struct Candidate : FitScore {
+  std::string label;                  // effect id(s), "baseline" for none
+  std::vector<v1::GeneBound> genes;   // what the study fits
+  std::vector<double> mean0;
+  std::string study_id;
+  std::string reason;
+  std::vector<double> values, spread;
+  double train = NAN;
+  std::vector<std::string> bound_params;  // effect parameters at the edge of their range
+  int k = 0;                          // fitted parameters (nuisances included)
+};
+
+// Numerically irrelevant variants of the model ("" is the model as fitted).
+const std::vector<std::string>& NumericVariants();
+
+// The candidate with these effects: its genes (base parameters, effect parameters, time
+// offset), start point and parameter count.
+Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids);
+
+// The calibration study that fits c.
+v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
+                       const std::vector<std::string>& train, const std::vector<std::string>& held,
+                       const std::string& weights);
+
+// Creates (or reuses: same spec and seed) the studies and waits for all of them, with
+// progress on stderr; fills study_id, values, spread, train. Returns an exit code.
+int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
+               int evaluations, const std::vector<std::string>& train,
+               const std::vector<std::string>& held, const std::string& weights,
+               const GlobalOptions& g, const char* stage, int* reused_total);
+
+// Error of calibration-eval on each file with c's fit (+ extra_set); empty on failure.
+// With out_dir, the simulated markers and eval.json are written there.
+std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string>& files,
+                               const v1::DiagnosisSpec& d, const std::string& out_dir,
+                               const std::string& extra_set = "");
+// Their mean; NAN on failure.
+double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
+                    const v1::DiagnosisSpec& d, const std::string& out_dir,
+                    const std::string& extra_set = "");
+
+// weighting: floor: each training file's weight 1 / sd^2 of the uncalibrated model's error
+// over the variants (floors: the sds). Empty when an evaluation fails.
+std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
+                                 std::vector<double>* floors);
+
+// c's held-out error under every variant, and their mean (NAN if any variant fails).
+void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d);
+
+}  // namespace gaitforge::cli::diagnosis

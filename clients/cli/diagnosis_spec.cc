@@ -1,0 +1,65 @@
+// The diagnosis spec's rules: its defaults and the checks that name a bad field.
+#include "clients/cli/diagnosis_spec.h"
+
+#include "absl/strings/str_cat.h"
+#include "workers/effects/effects.h"
+
+namespace gaitforge::cli::diagnosis {
+
+absl::Status Validate(const v1::DiagnosisSpec& d) {
+  if (d.robot() != "caterpillar")
+    return absl::InvalidArgumentError(absl::StrCat("field 'robot': '", d.robot(),
+                                                   "' is not a robot gaitforge can diagnose "
+                                                   "(known: caterpillar)"));
+  if (d.training_size() == 0)
+    return absl::InvalidArgumentError("field 'training': at least one recording is required");
+  if (d.held_out_size() == 0)
+    return absl::InvalidArgumentError(
+        "field 'held_out': at least one recording is required (decisions rest on it)");
+  for (int i = 0; i < d.candidates_size(); ++i) {
+    const auto* e = effects::FindEffect(d.candidates(i));
+    if (!e || e->params.empty())
+      return absl::InvalidArgumentError(absl::StrCat(
+          "field 'candidates[", i, "]': '", d.candidates(i),
+          "' is not a fittable effect (docs/effects.md lists them)"));
+  }
+  for (int i = 0; i < d.base_parameters_size(); ++i) {
+    const auto& b = d.base_parameters(i);
+    if (b.name().empty() || !(b.lo() < b.hi()))
+      return absl::InvalidArgumentError(absl::StrCat(
+          "field 'base_parameters[", i, "]': needs a name and lo < hi"));
+  }
+  if (d.time_offset_range_s() < 0 || d.time_offset_range_s() > 1)
+    return absl::InvalidArgumentError("field 'time_offset_range_s': out of range [0, 1] s");
+  if (d.screening_evaluations() < 8 || d.full_evaluations() < 8)
+    return absl::InvalidArgumentError(
+        "fields 'screening_evaluations' and 'full_evaluations': at least 8");
+  if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
+  if (!(d.screening_tie() >= 0 && d.screening_tie() <= 0.2))
+    return absl::InvalidArgumentError("field 'screening_tie': out of range [0, 0.2]");
+  if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
+    return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
+  if (d.weighting() != "equal" && d.weighting() != "floor")
+    return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
+                                                   "' is not one of equal, floor"));
+  return absl::OkStatus();
+}
+
+void Defaults(v1::DiagnosisSpec* d) {
+  if (d->name().empty()) d->set_name("diagnosis");
+  if (d->robot().empty()) d->set_robot("caterpillar");
+  if (!d->has_time_offset_range_s()) d->set_time_offset_range_s(0.05);
+  if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
+  if (!d->has_full_evaluations()) d->set_full_evaluations(480);
+  if (!d->has_top()) d->set_top(3);
+  if (!d->has_screening_tie()) d->set_screening_tie(0);
+  if (!d->has_try_pairs()) d->set_try_pairs(true);
+  if (d->error().empty()) d->set_error("shape");
+  if (d->weighting().empty()) d->set_weighting("floor");
+  if (!d->has_margin()) d->set_margin(10);
+  if (d->candidates_size() == 0)
+    for (const auto& e : effects::EffectCatalog())
+      if (!e.params.empty()) d->add_candidates(e.id);
+}
+
+}  // namespace gaitforge::cli::diagnosis
