@@ -29,6 +29,8 @@ const RobotInfo* FindRobot(std::string_view name) {
         cat.channels.push_back(absl::StrCat("m", i, ".", axis));
     cat.gene_count = 13;
     cat.gene_names = "a_T1..a_B3, d_T1..d_B3, T";
+    cat.markers = 6;
+    cat.marker_pitch_m = 0.032;  // ../shared/robots/caterpillar.md: rest spacing of centres
     v->push_back(std::move(cat));
     return v;
   }();
@@ -412,6 +414,7 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
                               csv_name));
   if (auto st = CheckSampling(csv_name, limits, &rec); !st.ok()) return st;
   if (auto st = BridgeMissing(csv_name, &rec); !st.ok()) return st;
+  if (auto st = internal::CheckMarkerFrame(csv_name, *side->robot, rec); !st.ok()) return st;
   return rec;
 }
 

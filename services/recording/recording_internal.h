@@ -18,6 +18,10 @@ struct RobotInfo {
   std::vector<std::string> channels;  // the CSV columns it may carry, besides "t"
   int gene_count = 0;                 // length of command.genes for kind "gait"
   std::string gene_names;             // for messages: "a_T1..a_B3, d_T1..d_B3, T"
+  // Markers m1..m<markers> from the rear to the front, `marker_pitch_m` apart along x at
+  // rest (the canonical geometry); 0 markers: no frame check.
+  int markers = 0;
+  double marker_pitch_m = 0;
 };
 
 const RobotInfo* FindRobot(std::string_view name);  // nullptr when unknown
@@ -50,5 +54,12 @@ absl::Status CheckJsonSyntax(std::string_view text, const std::string& name);
 
 // Parses and validates the sidecar (docs/recording-format.md, "Sidecar").
 absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name);
+
+// Catches the two usual export mistakes in marker positions, from the spacing of adjacent
+// markers along x (median over the recording): a file in millimetres or centimetres, and an
+// x axis that points backwards (or markers numbered from the front). Errors point at the
+// header column (docs/recording-format.md, "Frame and units").
+absl::Status CheckMarkerFrame(const std::string& name, const RobotInfo& robot,
+                              const Recording& rec);
 
 }  // namespace gaitforge::recording::internal

@@ -105,6 +105,25 @@ cmaes:
   auto occ_text = RunCommand(cli + "recording add occluded.csv");
   EXPECT_EQ(occ_text.exit_code, 0) << occ_text.err;
   EXPECT_NE(occ_text.err.find("2 empty or NaN cells bridged"), std::string::npos) << occ_text.err;
+  // The same recording exported in millimetres is refused before anything calibrates
+  // against it, at the column that gave it away, with the factor.
+  std::istringstream metres(ReadFile(dir.File("c.csv")));
+  std::string millimetres;
+  for (int i = 0; std::getline(metres, row); ++i) {
+    std::istringstream split(row);
+    int c = 0;
+    for (std::string cell; std::getline(split, cell, ','); ++c)
+      millimetres += (c ? "," : "") + (i == 0 || c == 0 ? cell : std::to_string(1000 * std::stod(cell)));
+    millimetres += "\n";
+  }
+  WriteFile(dir.File("mm.csv"), millimetres);
+  WriteFile(dir.File("mm.csv.json"), ReadFile(dir.File("c.csv.json")));
+  auto mm = RunCommand(cli + "recording add mm.csv");
+  EXPECT_EQ(mm.exit_code, 2) << mm.err;
+  EXPECT_NE(mm.err.find("mm.csv:1:5: neighbouring markers are"), std::string::npos) << mm.err;
+  EXPECT_NE(mm.err.find("look like millimetres (divide every position by 1000)"),
+            std::string::npos)
+      << mm.err;
 
   // The fit: within the stated tolerance of the truth (force 0.3 N, stiffness scale 0.1).
   // The robot hops, so the error landscape is rugged at small scales
