@@ -31,6 +31,7 @@
 #include "clients/cli/cli.h"
 #include "clients/cli/diagnosis_decision.h"
 #include "clients/cli/diagnosis_fits.h"
+#include "clients/cli/diagnosis_range.h"
 #include "clients/cli/diagnosis_spec.h"
 #include "clients/cli/processes.h"
 #include "gaitforge/v1/diagnosis.pb.h"
@@ -264,6 +265,17 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   std::vector<const Candidate*> named;
   for (int i : decision.named) named.push_back(&full[i]);
 
+  // The range of each named fit's parameters that the training data cannot tell from the
+  // fit, given the model's own spread (diagnosis_range.h).
+  std::map<const Candidate*, FitRange> ranges;
+  if (!named.empty() && train_floors.empty()) (void)FloorWeights(d, train_files, &train_floors);
+  const double tolerance = TrainingTolerance(weights, train_floors);
+  for (const auto* c : named) {
+    uint64_t seed = d.seed() ^ 0xcbf29ce484222325ull;  // FNV-1a of the label into the seed
+    for (unsigned char ch : c->label) seed = (seed ^ ch) * 0x100000001b3ull;
+    ranges[c] = FloorRange(*c, d, train_files, weights, tolerance, seed);
+  }
+
   // 6. The corrected model: a caterpillar.distance option ready for new gait studies.
   std::string corrected;
   if (!named.empty()) {
@@ -286,11 +298,23 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   };
   auto effect_json = [&](const Candidate& c) {
     std::string j = absl::StrCat("{\"id\": ", Quote(c.label), ", \"params\": {");
-    for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
+    const auto range = ranges.find(&c);
+    for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i) {
       absl::StrAppend(&j, i ? ", " : "", Quote(c.genes[i].name()), ": {\"value\": ",
-                      Num(c.values[i]), ", \"sd\": ", i < c.spread.size() ? Num(c.spread[i]) : "null",
-                      "}");
-    absl::StrAppend(&j, "}, \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
+                      Num(c.values[i]), ", \"sd\": ", i < c.spread.size() ? Num(c.spread[i]) : "null");
+      if (range != ranges.end() && i < range->second.params.size() &&
+          c.genes[i].name().rfind("nuisance.", 0) != 0) {
+        const ParamRange& r = range->second.params[i];
+        absl::StrAppend(&j, ", \"range\": [", Num(r.lo), ", ", Num(r.hi), "]");
+      }
+      absl::StrAppend(&j, "}");
+    }
+    absl::StrAppend(&j, "}");
+    if (range != ranges.end())
+      absl::StrAppend(&j, ", \"range_tolerance\": ", Num(range->second.tolerance),
+                      ", \"range_evaluations\": ", range->second.evaluations,
+                      ", \"range_accepted\": ", range->second.accepted);
+    absl::StrAppend(&j, ", \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
                     ", \"held_out_variants\": ", NumList(c.held_variants),
                     ", \"paired_t\": ", Num(PairedT(base.held_variants, c.held_variants)),
                     ", \"at_bound\": [", absl::StrJoin(c.bound_params, ", ", [](std::string* o, const std::string& n) { o->append(Quote(n)); }), "]",
@@ -385,10 +409,24 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       for (const auto* c : named) {
         const auto* e = effects::FindEffect(c->effects[0]);
         if (e) std::cout << "  " << e->name << ": " << e->meaning << "\n";
-        for (size_t i = 0; i < c->genes.size() && i < c->values.size(); ++i)
-          std::cout << absl::StrFormat("    %-34s %12.5g  +- %s\n", c->genes[i].name(), c->values[i],
-                                       i < c->spread.size() ? absl::StrFormat("%.3g", c->spread[i])
-                                                            : std::string("n/a"));
+        const FitRange& fr = ranges[c];
+        for (size_t i = 0; i < c->genes.size() && i < c->values.size(); ++i) {
+          std::string range = "(the time offset: not a magnitude)";
+          if (c->genes[i].name().rfind("nuisance.", 0) != 0 && i < fr.params.size()) {
+            const ParamRange& r = fr.params[i];
+            auto end = [](double v, const char* open) {
+              return std::isfinite(v) ? absl::StrFormat("%.4g", v) : std::string(open);
+            };
+            range = "range " + end(r.lo, "open") + " .. " + end(r.hi, "open");
+          }
+          std::cout << absl::StrFormat("    %-34s %12.5g  %s\n", c->genes[i].name(), c->values[i],
+                                       range);
+        }
+        if (std::isfinite(fr.tolerance))
+          std::cout << absl::StrFormat(
+              "    (range: where the training error stays within %.3g mm of its least, the "
+              "model's own spread; %d of %d evaluations)\n",
+              1000 * fr.tolerance, fr.accepted, fr.evaluations);
       }
       std::cout << absl::StrFormat(
           "  held-out error %.4g -> %.4g mm, training %.4g -> %.4g mm, delta BIC %.1f\n",

@@ -102,12 +102,19 @@ def score(result, answer):
         s["held_out_reduction"] = 1 - errs["held_out"] / errs["baseline_held_out"]
     if truth != "none" and verdict == "found":
         fitted = result["effects"][0]["params"]
-        rel = []
+        rel, covers = [], []
         for name, value in answer.get("params", {}).items():
             if name in fitted and value:
                 rel.append(abs(fitted[name]["value"] - value) / abs(value))
+            # The reported range (docs/diagnosis.md): a null end is open on that side.
+            rng = fitted.get(name, {}).get("range")
+            if rng:
+                covers.append((rng[0] is None or rng[0] <= value) and
+                              (rng[1] is None or value <= rng[1]))
         if rel:
             s["magnitude_relative_error"] = max(rel)
+        if covers:
+            s["range_covers_truth"] = all(covers)
     return s
 
 
@@ -202,10 +209,12 @@ def main():
     fdr = sum(not s["correct"] for s in nulls) / len(nulls) if nulls else None
     mags = sorted(s["magnitude_relative_error"] for s in scores if "magnitude_relative_error" in s)
     reds = sorted(s["held_out_reduction"] for s in effects if "held_out_reduction" in s)
+    covered = [s["range_covers_truth"] for s in scores if "range_covers_truth" in s]
     summary = {"cases": scores, "top1_rate": top1, "top1_exact_rate": exact,
                "false_discovery_rate": fdr,
                "median_magnitude_relative_error": mags[len(mags) // 2] if mags else None,
                "median_held_out_reduction": reds[len(reds) // 2] if reds else None,
+               "range_coverage": sum(covered) / len(covered) if covered else None,
                "wall_seconds": round(total, 1), "confusion": confusion(scores, answers)}
     print(f"{'case':14s} {'truth':22s} {'predicted':34s} {'ok':3s} {'|mag err|':>9s} {'held-out':>9s} {'s':>6s}")
     for s in scores:
@@ -217,7 +226,8 @@ def main():
     print(f"top-1 correct-effect rate {top1} (alone, not in a pair: {exact}), "
           f"false-discovery rate on nulls {fdr}, "
           f"median magnitude error {summary['median_magnitude_relative_error']}, "
-          f"median held-out reduction {summary['median_held_out_reduction']}, {total:.0f} s")
+          f"median held-out reduction {summary['median_held_out_reduction']}, "
+          f"truth inside the reported range {sum(covered)} of {len(covered)}, {total:.0f} s")
     for r in results:
         if "error" in r:
             print(f"{r['case']}: diagnose failed:\n{r['error']}", file=sys.stderr)
@@ -235,7 +245,15 @@ def main():
                   for r in ([] if a.rescore else results) if r.get("figures_missing")]
     if no_figures:
         print("figures missing: " + "; ".join(no_figures), file=sys.stderr)
-    if a.check and (unexplained or no_figures or not all(s["correct"] for s in scores)):
+    # Every named effect's magnitude comes with its range (not stored before session 8).
+    no_range = [f"{r['case']}: {e['id']}" for r in ([] if a.rescore else results)
+                for e in r.get("effects", [])
+                if not any("range" in p for n, p in e["params"].items()
+                           if not n.startswith("nuisance."))]
+    if no_range:
+        print("named effects without a range: " + ", ".join(no_range), file=sys.stderr)
+    if a.check and (unexplained or no_figures or no_range or
+                    not all(s["correct"] for s in scores)):
         return 1
     return 0
 

@@ -237,6 +237,18 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   ASSERT_NE(whole.out.find(R"("verdict": "found", "effects": [{"id": "tether.constant")"),
             std::string::npos)
       << whole.out;
+  // Its magnitude comes with the range the training data cannot tell from it (the same in
+  // the interrupted run: compared above), around the fitted value and not a point.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      whole.out, m,
+      std::regex(R"re("effect.tether_force_n": \{"value": ([-0-9.e]+), "sd": [-0-9.enul]+, "range": \[([-0-9.e]+), ([-0-9.e]+)\]\})re")))
+      << whole.out;
+  const double value = std::stod(m[1]), lo = std::stod(m[2]), hi = std::stod(m[3]);
+  EXPECT_LE(lo, value);
+  EXPECT_GE(hi, value);
+  EXPECT_LT(lo, hi);
+  EXPECT_GT(JsonNumber(whole.out, R"("range_accepted":)"), 1) << whole.out;
   const std::string corrected = ReadFile(dir.File("whole/mini-diagnosis/corrected-model.yaml"));
   ASSERT_NE(corrected.find("effect.tether_force_n="), std::string::npos) << corrected;
   const std::string gaits = "seed: 5\npopulation: 12\ngenerations: 1\n";

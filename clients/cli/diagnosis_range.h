@@ -1,0 +1,40 @@
+// The uncertainty of a fitted explanation's parameters that the gap finder reports: the
+// range of each parameter over which the training error stays within the chaos floor of its
+// best value (docs/diagnosis.md, "The range of a fitted magnitude").
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clients/cli/diagnosis_fits.h"
+#include "gaitforge/v1/diagnosis.pb.h"
+
+namespace gaitforge::cli::diagnosis {
+
+struct ParamRange {
+  double lo = NAN, hi = NAN;             // NAN: not bounded within the search on that side
+  bool open_lo = false, open_hi = false;  // the range reached the search's edge there
+};
+
+struct FitRange {
+  std::vector<ParamRange> params;  // one per gene of the candidate; nuisances left NAN
+  double tolerance = NAN;          // the floor of the weighted training error (m)
+  int evaluations = 0;             // training evaluations spent
+  int accepted = 0;                // of them within the tolerance
+};
+
+// The floor of the weighted training error: the spread of sum_f w_f e_f / n when each
+// file's error e_f varies by its floor (sd over the numeric variants), files independent.
+double TrainingTolerance(const std::vector<double>& weights, const std::vector<double>& floors);
+
+// Samples c's non-nuisance genes in a box around the fit (the time offset held at its fit)
+// and keeps the points whose weighted training error is within `tolerance` of the least
+// found; the box shrinks onto a small accepted set and grows where the set touches it
+// (never past a gene's bounds), for at most 4 rounds of 20 points per gene. Deterministic
+// for a given seed. Evaluations run two at a time (gaitforge-sim calibration-eval).
+FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
+                    const std::vector<std::string>& train_files,
+                    const std::vector<double>& weights, double tolerance, uint64_t seed);
+
+}  // namespace gaitforge::cli::diagnosis
