@@ -273,7 +273,14 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   for (const auto* c : named) {
     uint64_t seed = d.seed() ^ 0xcbf29ce484222325ull;  // FNV-1a of the label into the seed
     for (unsigned char ch : c->label) seed = (seed ^ ch) * 0x100000001b3ull;
+    if (!g.json) std::cerr << "range: " << c->label << " ..." << std::flush;
+    const auto started = std::chrono::steady_clock::now();
     ranges[c] = FloorRange(*c, d, train_files, weights, tolerance, seed);
+    if (!g.json)
+      std::cerr << absl::StrFormat(
+          " %d evaluations, %d within %.3g mm of the least (%.0f s)\n", ranges[c].evaluations,
+          ranges[c].accepted, 1000 * tolerance,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   }
 
   // 6. The corrected model: a caterpillar.distance option ready for new gait studies.

@@ -7,15 +7,13 @@
 #include <random>
 #include <thread>
 
-#include "absl/strings/str_format.h"
-#include "absl/strings/str_join.h"
-
 namespace gaitforge::cli::diagnosis {
 namespace {
 
 constexpr int kRounds = 4;
 constexpr int kPointsPerGene = 20;
 constexpr int kEnoughAccepted = 8;
+constexpr int kBisections = 5;  // per end of each range: 1/32 of the way to the box
 constexpr double kStartSpan = 0.3;  // of |value| (at least 5% of the gene's range)
 
 // Uniform in [0, 1) from 53 bits: the same on every platform (std distributions are not).
@@ -48,67 +46,53 @@ double TrainingTolerance(const std::vector<double>& weights, const std::vector<d
   return std::sqrt(sq);
 }
 
-FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
-                    const std::vector<std::string>& train_files,
-                    const std::vector<double>& weights, double tolerance, uint64_t seed) {
+FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
   FitRange out;
-  out.params.resize(c.genes.size());
-  out.tolerance = tolerance;
-  std::vector<size_t> fit;
-  for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
-    if (c.genes[i].name().rfind("nuisance.", 0) != 0) fit.push_back(i);
-  if (fit.empty() || !(tolerance > 0)) return out;
-  const size_t k = fit.size();
-  std::vector<double> lo(k), hi(k), x0(k), a(k), b(k);
+  const size_t k = s.x0.size();
+  out.params.resize(k);
+  out.tolerance = s.tolerance;
+  if (k == 0 || !(s.tolerance > 0)) return out;
+  const std::vector<double>&lo = s.lo, &hi = s.hi, &x0 = s.x0;
+  std::vector<double> a(k), b(k);
   for (size_t i = 0; i < k; ++i) {
-    const auto& g = c.genes[fit[i]];
-    lo[i] = g.lo();
-    hi[i] = g.hi();
-    x0[i] = c.values[fit[i]];
     const double span = kStartSpan * std::max(std::abs(x0[i]), 0.05 * (hi[i] - lo[i]));
     a[i] = std::max(lo[i], x0[i] - span);
     b[i] = std::min(hi[i], x0[i] + span);
   }
-  std::mt19937_64 rng(seed);
+  std::mt19937_64 rng(s.seed);
   std::vector<std::vector<double>> xs = {x0};
-  std::vector<double> es = {WeightedError(c, fit, x0, d, train_files, weights)};
-  ++out.evaluations;
+  std::vector<double> es = errors(xs);
   std::vector<double> acc_lo(k), acc_hi(k);
   std::vector<bool> touch_lo(k), touch_hi(k);
   for (int round = 0; round < kRounds; ++round) {
-    const size_t first = xs.size();
+    std::vector<std::vector<double>> batch;
     for (size_t p = 0; p < kPointsPerGene * k; ++p) {
       std::vector<double> x(k);
       for (size_t i = 0; i < k; ++i) x[i] = a[i] + (b[i] - a[i]) * Uniform(rng);
-      xs.push_back(std::move(x));
+      batch.push_back(std::move(x));
     }
-    es.resize(xs.size(), NAN);
-    for (size_t p = first; p < xs.size(); p += 2) {
-      std::thread t;
-      if (p + 1 < xs.size())
-        t = std::thread([&, p] {
-          es[p + 1] = WeightedError(c, fit, xs[p + 1], d, train_files, weights);
-        });
-      es[p] = WeightedError(c, fit, xs[p], d, train_files, weights);
-      if (t.joinable()) t.join();
+    const std::vector<double> e = errors(batch);
+    for (size_t p = 0; p < batch.size(); ++p) {
+      xs.push_back(batch[p]);
+      es.push_back(p < e.size() ? e[p] : NAN);
     }
     out.evaluations = static_cast<int>(xs.size());
     double best = INFINITY;
-    for (double e : es)
-      if (std::isfinite(e)) best = std::min(best, e);
+    for (double v : es)
+      if (std::isfinite(v)) best = std::min(best, v);
     if (!std::isfinite(best)) return out;
     out.accepted = 0;
     acc_lo.assign(k, INFINITY);
     acc_hi.assign(k, -INFINITY);
     for (size_t p = 0; p < xs.size(); ++p) {
-      if (!(es[p] <= best + tolerance)) continue;
+      if (!(es[p] <= best + s.tolerance)) continue;
       ++out.accepted;
       for (size_t i = 0; i < k; ++i) {
         acc_lo[i] = std::min(acc_lo[i], xs[p][i]);
         acc_hi[i] = std::max(acc_hi[i], xs[p][i]);
       }
     }
-    // Where the accepted set meets the box (not a bound of the gene), the range goes on.
+    // Where the accepted set meets the box (not a bound of the parameter), the range goes on.
     bool grow = false;
     for (size_t i = 0; i < k; ++i) {
       const double w = b[i] - a[i], edge = 0.1 * w;
@@ -130,15 +114,89 @@ FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
       }
     }
   }
+  // Random points reach a corner of the accepted set's extent rarely: push each closed end
+  // outwards along its axis from the accepted point that holds it, by bisection towards the
+  // box's edge (both ends of one parameter in one batch).
+  double best = INFINITY;
+  for (double v : es)
+    if (std::isfinite(v)) best = std::min(best, v);
   for (size_t i = 0; i < k; ++i) {
-    ParamRange& r = out.params[fit[i]];
-    acc_lo[i] = std::min(acc_lo[i], x0[i]);  // the fit itself stays in its range
-    acc_hi[i] = std::max(acc_hi[i], x0[i]);
+    std::vector<double> in_pt[2], out_pt[2];  // [0] the low end, [1] the high end
+    bool active[2] = {!touch_lo[i], !touch_hi[i]};
+    for (int side = 0; side < 2; ++side) {
+      size_t holder = 0;
+      for (size_t p = 0; p < xs.size(); ++p)
+        if (es[p] <= best + s.tolerance &&
+            (side == 0 ? xs[p][i] < xs[holder][i] : xs[p][i] > xs[holder][i]))
+          holder = p;
+      in_pt[side] = out_pt[side] = xs[holder];
+      out_pt[side][i] = side == 0 ? a[i] : b[i];
+      active[side] = active[side] && out_pt[side][i] != in_pt[side][i];
+    }
+    for (int step = 0; step < kBisections && (active[0] || active[1]); ++step) {
+      std::vector<std::vector<double>> batch;
+      std::vector<int> sides;
+      for (int side = 0; side < 2; ++side) {
+        if (!active[side]) continue;
+        std::vector<double> mid = in_pt[side];
+        mid[i] = 0.5 * (in_pt[side][i] + out_pt[side][i]);
+        batch.push_back(std::move(mid));
+        sides.push_back(side);
+      }
+      const std::vector<double> e = errors(batch);
+      out.evaluations += static_cast<int>(batch.size());
+      for (size_t q = 0; q < batch.size(); ++q) {
+        const bool ok = q < e.size() && e[q] <= best + s.tolerance;
+        (ok ? in_pt : out_pt)[sides[q]] = batch[q];
+        out.accepted += ok;
+      }
+    }
+    acc_lo[i] = std::min(acc_lo[i], in_pt[0][i]);
+    acc_hi[i] = std::max(acc_hi[i], in_pt[1][i]);
+  }
+  for (size_t i = 0; i < k; ++i) {
+    ParamRange& r = out.params[i];
     r.open_lo = touch_lo[i];
     r.open_hi = touch_hi[i];
-    r.lo = r.open_lo ? NAN : acc_lo[i];
-    r.hi = r.open_hi ? NAN : acc_hi[i];
+    r.lo = r.open_lo ? NAN : std::min(acc_lo[i], x0[i]);  // the fit stays in its range
+    r.hi = r.open_hi ? NAN : std::max(acc_hi[i], x0[i]);
   }
+  return out;
+}
+
+FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
+                    const std::vector<std::string>& train_files,
+                    const std::vector<double>& weights, double tolerance, uint64_t seed) {
+  std::vector<size_t> fit;
+  for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i)
+    if (c.genes[i].name().rfind("nuisance.", 0) != 0) fit.push_back(i);
+  RangeSearch s;
+  s.tolerance = tolerance;
+  s.seed = seed;
+  for (size_t i : fit) {
+    s.lo.push_back(c.genes[i].lo());
+    s.hi.push_back(c.genes[i].hi());
+    s.x0.push_back(c.values[i]);
+  }
+  // Two at a time: each point is one gaitforge-sim process over the training files.
+  auto errors = [&](const std::vector<std::vector<double>>& points) {
+    std::vector<double> e(points.size(), NAN);
+    for (size_t p = 0; p < points.size(); p += 2) {
+      std::thread t;
+      if (p + 1 < points.size())
+        t = std::thread([&, p] {
+          e[p + 1] = WeightedError(c, fit, points[p + 1], d, train_files, weights);
+        });
+      e[p] = WeightedError(c, fit, points[p], d, train_files, weights);
+      if (t.joinable()) t.join();
+    }
+    return e;
+  };
+  const FitRange found = SearchRange(s, errors);
+  FitRange out = found;  // per gene of c: nuisances NAN
+  out.params.assign(c.genes.size(), ParamRange{});
+  for (size_t i = 0; i < fit.size() && i < found.params.size(); ++i)
+    out.params[fit[i]] = found.params[i];
   return out;
 }
 

@@ -3,7 +3,9 @@
 // best value (docs/diagnosis.md, "The range of a fitted magnitude").
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,11 +30,24 @@ struct FitRange {
 // file's error e_f varies by its floor (sd over the numeric variants), files independent.
 double TrainingTolerance(const std::vector<double>& weights, const std::vector<double>& floors);
 
+// The search itself, on any error function: points x (one value per parameter, within
+// [lo, hi]) go to `errors` in batches, which returns one error each (NAN: failed). x0 is the
+// fit. Returns the range of each parameter, the evaluations and the accepted count.
+struct RangeSearch {
+  std::vector<double> lo, hi, x0;
+  double tolerance = NAN;
+  uint64_t seed = 0;
+};
+using BatchErrors =
+    std::function<std::vector<double>(const std::vector<std::vector<double>>& points)>;
+FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors);
+
 // Samples c's non-nuisance genes in a box around the fit (the time offset held at its fit)
 // and keeps the points whose weighted training error is within `tolerance` of the least
 // found; the box shrinks onto a small accepted set and grows where the set touches it
-// (never past a gene's bounds), for at most 4 rounds of 20 points per gene. Deterministic
-// for a given seed. Evaluations run two at a time (gaitforge-sim calibration-eval).
+// (never past a gene's bounds), for at most 4 rounds of 20 points per gene; then each
+// closed end is pushed outwards along its axis by 5 bisections. Deterministic for a given
+// seed. Evaluations run two at a time (gaitforge-sim calibration-eval).
 FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
                     const std::vector<std::string>& train_files,
                     const std::vector<double>& weights, double tolerance, uint64_t seed);

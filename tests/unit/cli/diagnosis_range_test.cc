@@ -1,0 +1,116 @@
+// The range search of the gap finder's magnitudes (clients/cli/diagnosis_range.h) on error
+// functions whose answer is known: a bowl, a parameter the error ignores, a failing region.
+#include "clients/cli/diagnosis_range.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace gaitforge::cli::diagnosis {
+namespace {
+
+// Error (x - 1)^2 + 0.25 (y - 2)^2: within 0.01 of its least for x in [0.9, 1.1] and y in
+// [1.8, 2.2] (the ellipse's extent on each axis).
+std::vector<double> Bowl(const std::vector<std::vector<double>>& points) {
+  std::vector<double> e;
+  for (const auto& p : points) e.push_back((p[0] - 1) * (p[0] - 1) + 0.25 * (p[1] - 2) * (p[1] - 2));
+  return e;
+}
+
+RangeSearch Search(double tolerance, uint64_t seed = 7) {
+  RangeSearch s;
+  s.lo = {0, 0};
+  s.hi = {3, 3};
+  s.x0 = {1.02, 1.97};  // a fit near, not at, the least
+  s.tolerance = tolerance;
+  s.seed = seed;
+  return s;
+}
+
+TEST(SearchRange, FindsTheSetWithinTheToleranceOfABowl) {
+  const FitRange r = SearchRange(Search(0.01), Bowl);
+  ASSERT_EQ(r.params.size(), 2u);
+  // Inside the true extent (the accepted points are in the set) and covering most of it.
+  EXPECT_GE(r.params[0].lo, 0.9);
+  EXPECT_LE(r.params[0].lo, 0.94);
+  EXPECT_LE(r.params[0].hi, 1.1);
+  EXPECT_GE(r.params[0].hi, 1.06);
+  EXPECT_GE(r.params[1].lo, 1.8);
+  EXPECT_LE(r.params[1].lo, 1.88);
+  EXPECT_LE(r.params[1].hi, 2.2);
+  EXPECT_GE(r.params[1].hi, 2.12);
+  EXPECT_FALSE(r.params[0].open_lo || r.params[0].open_hi || r.params[1].open_lo ||
+               r.params[1].open_hi);
+  EXPECT_GE(r.accepted, 8);
+  EXPECT_LE(r.evaluations, 1 + 4 * 40 + 2 * 2 * 5);  // the rounds and the bisections
+  // A looser tolerance, a wider range: sqrt(0.04) = 0.2 either side of x = 1.
+  const FitRange wide = SearchRange(Search(0.04), Bowl);
+  EXPECT_LT(wide.params[0].lo, r.params[0].lo);
+  EXPECT_GT(wide.params[0].hi, r.params[0].hi);
+  EXPECT_GE(wide.params[0].lo, 0.8);
+}
+
+TEST(SearchRange, AParameterTheErrorIgnoresSpansItsBoundsOrStaysOpen) {
+  auto only_x = [](const std::vector<std::vector<double>>& points) {
+    std::vector<double> e;
+    for (const auto& p : points) e.push_back((p[0] - 1) * (p[0] - 1));
+    return e;
+  };
+  // Bounds [0, 3]: the box grows to them; the range is (nearly) all of it, closed there.
+  const FitRange r = SearchRange(Search(0.01), only_x);
+  EXPECT_LE(r.params[1].lo, 0.3);
+  EXPECT_GE(r.params[1].hi, 2.7);
+  EXPECT_FALSE(r.params[1].open_lo || r.params[1].open_hi);
+  // Bounds far away: after the last round the set still meets the box: open, NAN ends.
+  RangeSearch far = Search(0.01);
+  far.lo[1] = -1e6;
+  far.hi[1] = 1e6;
+  const FitRange open = SearchRange(far, only_x);
+  EXPECT_TRUE(open.params[1].open_lo);
+  EXPECT_TRUE(open.params[1].open_hi);
+  EXPECT_TRUE(std::isnan(open.params[1].lo));
+  EXPECT_TRUE(std::isnan(open.params[1].hi));
+  EXPECT_FALSE(open.params[0].open_lo || open.params[0].open_hi);
+}
+
+TEST(SearchRange, IsDeterministicPerSeedAndSkipsFailedPoints) {
+  const FitRange a = SearchRange(Search(0.01, 42), Bowl);
+  const FitRange b = SearchRange(Search(0.01, 42), Bowl);
+  EXPECT_EQ(a.params[0].lo, b.params[0].lo);
+  EXPECT_EQ(a.params[1].hi, b.params[1].hi);
+  EXPECT_EQ(a.evaluations, b.evaluations);
+  // The model fails (NAN) wherever x > 1.05: no accepted point lies there.
+  auto failing = [](const std::vector<std::vector<double>>& points) {
+    std::vector<double> e = Bowl(points);
+    for (size_t i = 0; i < points.size(); ++i)
+      if (points[i][0] > 1.05) e[i] = NAN;
+    return e;
+  };
+  const FitRange f = SearchRange(Search(0.01, 42), failing);
+  EXPECT_LE(f.params[0].hi, 1.05);
+  EXPECT_GE(f.accepted, 1);
+}
+
+TEST(SearchRange, NoToleranceNoRange) {
+  int calls = 0;
+  auto counted = [&](const std::vector<std::vector<double>>& points) {
+    ++calls;
+    return Bowl(points);
+  };
+  const FitRange r = SearchRange(Search(NAN), counted);
+  EXPECT_EQ(calls, 0);
+  EXPECT_TRUE(std::isnan(r.params[0].lo));
+  EXPECT_EQ(r.evaluations, 0);
+}
+
+TEST(TrainingTolerance, CombinesTheFilesFloorsByTheirWeights) {
+  // sqrt(sum ((w_f / n) floor_f)^2), n = 2 files.
+  EXPECT_NEAR(TrainingTolerance({0.5, 1.5}, {2e-3, 1e-3}),
+              std::sqrt(std::pow(0.25 * 2e-3, 2) + std::pow(0.75 * 1e-3, 2)), 1e-15);
+  EXPECT_NEAR(TrainingTolerance({}, {3e-4, 4e-4}), 2.5e-4, 1e-15);  // equal weights
+  EXPECT_TRUE(std::isnan(TrainingTolerance({1.0}, {})));
+}
+
+}  // namespace
+}  // namespace gaitforge::cli::diagnosis
