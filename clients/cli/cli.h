@@ -62,6 +62,8 @@ int ReportRpcError(const grpc::Status& s, const std::string& what);
 std::string ToJson(const google::protobuf::Message& m);
 std::string StateName(v1::StudyState s);
 std::string FormatDuration(double seconds);
+// A progress bar on stderr, redrawn in place: "\r[#####.....] line" (frac in [0, 1]).
+void DrawProgressBar(double frac, const std::string& line);
 
 // Command entry points: args are what follows the command name.
 int CmdSubmit(const GlobalOptions& g, const std::vector<std::string>& args);

@@ -1,6 +1,8 @@
 #include <google/protobuf/util/json_util.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -121,6 +123,13 @@ std::string FormatDuration(double s) {
   return absl::StrFormat("%ds", t);
 }
 
+void DrawProgressBar(double frac, const std::string& line) {
+  const int width = 30;
+  const int fill = static_cast<int>(std::clamp(frac, 0.0, 1.0) * width);
+  std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] " << line
+            << "   " << std::flush;
+}
+
 int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const GlobalOptions& g,
                    double watch_timeout_s) {
   grpc::ClientContext ctx;
@@ -144,10 +153,7 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
         "gen %d/%d  best %.6g  mean %.6g  %.0f ev/s  ETA %s", p.generations_done(), total,
         p.best(), p.mean(), p.evals_per_second(), FormatDuration(p.eta_seconds()));
     if (tty) {
-      const int width = 30;
-      const int fill = static_cast<int>(frac * width);
-      std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] "
-                << line << "   " << std::flush;
+      DrawProgressBar(frac, line);
     } else if (!g.json) {
       // One line per ~10% of the study, and the last one.
       const int step = std::max(1, total / 10);

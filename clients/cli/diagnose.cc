@@ -309,8 +309,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i) {
       absl::StrAppend(&j, i ? ", " : "", Quote(c.genes[i].name()), ": {\"value\": ",
                       Num(c.values[i]), ", \"sd\": ", i < c.spread.size() ? Num(c.spread[i]) : "null");
-      if (range != ranges.end() && i < range->second.params.size() &&
-          c.genes[i].name().rfind("nuisance.", 0) != 0) {
+      if (range != ranges.end() && std::isfinite(range->second.tolerance) &&
+          i < range->second.params.size() && c.genes[i].name().rfind("nuisance.", 0) != 0) {
         const ParamRange& r = range->second.params[i];
         absl::StrAppend(&j, ", \"range\": [", Num(r.lo), ", ", Num(r.hi), "]");
       }
@@ -418,8 +418,12 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
         if (e) std::cout << "  " << e->name << ": " << e->meaning << "\n";
         const FitRange& fr = ranges[c];
         for (size_t i = 0; i < c->genes.size() && i < c->values.size(); ++i) {
-          std::string range = "(the time offset: not a magnitude)";
-          if (c->genes[i].name().rfind("nuisance.", 0) != 0 && i < fr.params.size()) {
+          std::string range;
+          if (c->genes[i].name().rfind("nuisance.", 0) == 0) {
+            range = "(the time offset: not a magnitude)";
+          } else if (!std::isfinite(fr.tolerance) || i >= fr.params.size()) {
+            range = "(no range: the model failed under a numeric variant, so no floor)";
+          } else {
             const ParamRange& r = fr.params[i];
             auto end = [](double v, const char* open) {
               return std::isfinite(v) ? absl::StrFormat("%.4g", v) : std::string(open);

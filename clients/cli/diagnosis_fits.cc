@@ -162,9 +162,7 @@ int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candida
         "%s: %d/%d fits done, %.0f/%.0f evaluations, ETA %s", stage, done, cands.size(), spent,
         budget, frac > 0.02 ? FormatDuration(elapsed * (1 - frac) / frac) : std::string("--"));
     if (!g.json && tty) {
-      const int width = 30, fill = static_cast<int>(std::min(1.0, frac) * width);
-      std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, '.') << "] "
-                << line << "   " << std::flush;
+      DrawProgressBar(frac, line);
     } else if (!g.json && done != shown) {
       std::cerr << line << "\n";
       shown = done;
