@@ -53,7 +53,8 @@ struct RecordingLimits {
 // non-numeric cells, infinite values, an empty or NaN time, a channel with no value at all,
 // missing or duplicate columns, time that does not increase, sampling irregular beyond the
 // tolerance, an unknown robot or channel, a file over the size limit, a sidecar that is not
-// JSON or lacks required keys. Empty or NaN channel cells are missing samples, bridged.
+// JSON or lacks required keys, marker positions in mm or cm or with x reversed (from the
+// markers' spacing). Empty or NaN channel cells are missing samples, bridged.
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
                                          const std::string& csv_name,
                                          const std::string& sidecar_name,
