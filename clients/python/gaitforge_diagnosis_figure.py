@@ -50,8 +50,24 @@ def _error_panel(ax, rep):
     ax.legend(fontsize=7)
     verdict = rep["verdict"]
     what = " and ".join(e["id"] for e in rep["effects"]) or "no missing physics"
-    ax.set_title(f"{rep['name']}: {verdict} ({what}); dots: the numeric variants",
-                 fontsize=9)
+    title = f"{rep['name']}: {verdict} ({what}); dots: the numeric variants"
+    if _magnitudes(rep):
+        title += "\n" + _magnitudes(rep)
+    ax.set_title(title, fontsize=9)
+
+
+def _magnitudes(rep):
+    """The named effects' fitted values with their ranges (docs/diagnosis.md), one line."""
+    def end(v):
+        return "open" if v is None else f"{v:.3g}"
+    parts = []
+    for e in rep["effects"]:
+        for name, p in e["params"].items():
+            if "range" in p:
+                lo, hi = p["range"]
+                parts.append(f"{name.replace('effect.', '')} {p['value']:.3g} "
+                             f"(range {end(lo)}..{end(hi)})")
+    return "; ".join(parts)
 
 
 def _overlay_rows(fig, grid, rep, first_row):
