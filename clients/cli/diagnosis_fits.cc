@@ -265,18 +265,22 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
   return w;
 }
 
+void TwoAtATime(size_t n, const std::function<void(size_t)>& run) {
+  for (size_t i = 0; i < n; i += 2) {
+    std::thread t;
+    if (i + 1 < n) t = std::thread([&run, i] { run(i + 1); });
+    run(i);
+    if (t.joinable()) t.join();
+  }
+}
+
 // Held-out error of c under every numeric variant, two at a time; c.held is their mean (NAN if
 // any variant fails: a fit that only works at one timestep is no fit).
 void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d) {
   const auto& variants = NumericVariants();
   c.held_variants.assign(variants.size(), NAN);
-  for (size_t i = 0; i < variants.size(); i += 2) {
-    std::thread t;
-    if (i + 1 < variants.size())
-      t = std::thread([&, i] { c.held_variants[i + 1] = HeldOutError(c, files, d, "", variants[i + 1]); });
-    c.held_variants[i] = HeldOutError(c, files, d, "", variants[i]);
-    if (t.joinable()) t.join();
-  }
+  TwoAtATime(variants.size(),
+             [&](size_t i) { c.held_variants[i] = HeldOutError(c, files, d, "", variants[i]); });
   double sum = 0;
   for (double e : c.held_variants) sum += e;
   c.held = sum / variants.size();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,9 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
 // over the variants (floors: the sds). Empty when an evaluation fails.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
                                  std::vector<double>* floors);
+
+// run(0) .. run(n - 1), two at a time (each typically one gaitforge-sim process).
+void TwoAtATime(size_t n, const std::function<void(size_t)>& run);
 
 // c's held-out error under every variant, and their mean (NAN if any variant fails).
 void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d);

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <thread>
 
 namespace gaitforge::cli::diagnosis {
 namespace {
@@ -181,15 +180,9 @@ FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
   // Two at a time: each point is one gaitforge-sim process over the training files.
   auto errors = [&](const std::vector<std::vector<double>>& points) {
     std::vector<double> e(points.size(), NAN);
-    for (size_t p = 0; p < points.size(); p += 2) {
-      std::thread t;
-      if (p + 1 < points.size())
-        t = std::thread([&, p] {
-          e[p + 1] = WeightedError(c, fit, points[p + 1], d, train_files, weights);
-        });
+    TwoAtATime(points.size(), [&](size_t p) {
       e[p] = WeightedError(c, fit, points[p], d, train_files, weights);
-      if (t.joinable()) t.join();
-    }
+    });
     return e;
   };
   const FitRange found = SearchRange(s, errors);

@@ -5,6 +5,7 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <functional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -32,6 +33,22 @@ double JsonNumber(const std::string& text, const std::string& pattern) {
   std::smatch m;
   if (!std::regex_search(text, m, std::regex(pattern + R"(\s*([-0-9.eE+]+))"))) return NAN;
   return std::stod(m[1]);
+}
+
+// csv with every cell replaced by f(line, column, cell), both counted from 0 (line 0 is the
+// header, column 0 is t).
+std::string MapCells(const std::string& csv,
+                     const std::function<std::string(int, int, const std::string&)>& f) {
+  std::istringstream rows(csv);
+  std::string out, row;
+  for (int line = 0; std::getline(rows, row); ++line) {
+    std::istringstream split(row);
+    int col = 0;
+    for (std::string cell; std::getline(split, cell, ','); ++col)
+      out += (col ? "," : "") + f(line, col, cell);
+    out += "\n";
+  }
+  return out;
 }
 
 TEST(Calibration, RecoversKnownParametersAndImprovesTheFit) {
@@ -86,17 +103,12 @@ cmaes:
   EXPECT_NE(bad.err.find("bad.csv:3:2"), std::string::npos) << bad.err;
   // Occluded markers (empty and NaN cells) upload, bridged and counted: the third data row's
   // m1.x empty, the fourth's m2.z NaN.
-  std::istringstream rows(ReadFile(dir.File("c.csv")));
-  std::string occluded, row;
-  for (int i = 0; std::getline(rows, row); ++i) {
-    std::vector<std::string> cells;
-    std::istringstream split(row);
-    for (std::string c; std::getline(split, c, ',');) cells.push_back(c);
-    if (i == 3) cells[1] = "";     // m1.x
-    if (i == 4) cells[6] = "NaN";  // m2.z
-    for (size_t c = 0; c < cells.size(); ++c) occluded += (c ? "," : "") + cells[c];
-    occluded += "\n";
-  }
+  const std::string occluded =
+      MapCells(ReadFile(dir.File("c.csv")), [](int line, int col, const std::string& cell) {
+        if (line == 3 && col == 1) return std::string();  // m1.x
+        if (line == 4 && col == 6) return std::string("NaN");  // m2.z
+        return cell;
+      });
   WriteFile(dir.File("occluded.csv"), occluded);
   WriteFile(dir.File("occluded.csv.json"), ReadFile(dir.File("c.csv.json")));
   auto occ = RunCommand(cli + "recording add occluded.csv --json");
@@ -107,15 +119,10 @@ cmaes:
   EXPECT_NE(occ_text.err.find("2 empty or NaN cells bridged"), std::string::npos) << occ_text.err;
   // The same recording exported in millimetres is refused before anything calibrates
   // against it, at the column that gave it away, with the factor.
-  std::istringstream metres(ReadFile(dir.File("c.csv")));
-  std::string millimetres;
-  for (int i = 0; std::getline(metres, row); ++i) {
-    std::istringstream split(row);
-    int c = 0;
-    for (std::string cell; std::getline(split, cell, ','); ++c)
-      millimetres += (c ? "," : "") + (i == 0 || c == 0 ? cell : std::to_string(1000 * std::stod(cell)));
-    millimetres += "\n";
-  }
+  const std::string millimetres =
+      MapCells(ReadFile(dir.File("c.csv")), [](int line, int col, const std::string& cell) {
+        return line == 0 || col == 0 ? cell : std::to_string(1000 * std::stod(cell));
+      });
   WriteFile(dir.File("mm.csv"), millimetres);
   WriteFile(dir.File("mm.csv.json"), ReadFile(dir.File("c.csv.json")));
   auto mm = RunCommand(cli + "recording add mm.csv");
