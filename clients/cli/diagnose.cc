@@ -260,8 +260,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   DecisionRule rule;
   rule.margin = d.margin();
   const std::vector<FitScore> scores(full.begin(), full.end());
-  const Decision decision = Decide(base, scores, rule);
-  const std::string verdict = decision.verdict;
+  Decision decision = Decide(base, scores, rule);
   std::vector<const Candidate*> named;
   for (int i : decision.named) named.push_back(&full[i]);
 
@@ -282,6 +281,29 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
           ranges[c].accepted, 1000 * tolerance,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   }
+  // A rival whose magnitudes the data do not pin is no rival (PreferDetermined).
+  std::map<const Candidate*, std::string> loose;  // its undetermined parameters, in words
+  std::vector<bool> undetermined;
+  for (const auto* c : named) {
+    std::vector<std::string> words;
+    const FitRange& fr = ranges[c];
+    for (size_t i = base_genes; i < c->genes.size() && i < fr.params.size(); ++i) {
+      const double share = RangeShare(fr.params[i], c->genes[i].lo(), c->genes[i].hi());
+      if (share >= kUndeterminedShare)
+        words.push_back(absl::StrFormat("%s (%.0f%%)", c->genes[i].name(), 100 * share));
+    }
+    undetermined.push_back(!words.empty());
+    if (!words.empty()) loose[c] = absl::StrJoin(words, ", ");
+  }
+  std::vector<int> dropped;
+  decision = PreferDetermined(decision, undetermined, &dropped);
+  named.clear();
+  for (int i : decision.named) named.push_back(&full[i]);
+  const std::string verdict = decision.verdict;
+  for (int i : dropped)
+    if (!g.json)
+      std::cerr << "not a rival: " << full[i].label << " (the data do not pin "
+                << loose[&full[i]] << " of its allowed values)\n";
 
   // 6. The corrected model: a caterpillar.distance option ready for new gait studies.
   std::string corrected;
@@ -301,6 +323,12 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
 
   // Report: JSON and words.
   auto why_not = [&](const Candidate& c) {
+    if (std::find(dropped.begin(), dropped.end(), &c - full.data()) != dropped.end())
+      return absl::StrFormat(
+          "a rival of %s within the decision's margins, but the training data do not pin its "
+          "magnitudes: %s of the allowed values fit within the model's own spread. Free along a "
+          "whole direction, it absorbs the mismatch rather than measures an effect",
+          named[0]->label, loose[&c]);
     return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule);
   };
   auto effect_json = [&](const Candidate& c) {
@@ -312,7 +340,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       if (range != ranges.end() && std::isfinite(range->second.tolerance) &&
           i < range->second.params.size() && c.genes[i].name().rfind("nuisance.", 0) != 0) {
         const ParamRange& r = range->second.params[i];
-        absl::StrAppend(&j, ", \"range\": [", Num(r.lo), ", ", Num(r.hi), "]");
+        absl::StrAppend(&j, ", \"range\": [", Num(r.lo), ", ", Num(r.hi), "], \"range_share\": ",
+                        Num(RangeShare(r, c.genes[i].lo(), c.genes[i].hi())));
       }
       absl::StrAppend(&j, "}");
     }
@@ -429,6 +458,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
               return std::isfinite(v) ? absl::StrFormat("%.4g", v) : std::string(open);
             };
             range = "range " + end(r.lo, "open") + " .. " + end(r.hi, "open");
+            const double share = RangeShare(r, c->genes[i].lo(), c->genes[i].hi());
+            if (share >= kUndeterminedShare)
+              range += absl::StrFormat(" (%.0f%% of its allowed values: not pinned)", 100 * share);
           }
           std::cout << absl::StrFormat("    %-34s %12.5g  %s\n", c->genes[i].name(), c->values[i],
                                        range);

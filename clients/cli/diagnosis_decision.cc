@@ -147,6 +147,22 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   return d;
 }
 
+Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermined,
+                          std::vector<int>* dropped) {
+  auto loose = [&](size_t k) { return k < undetermined.size() && undetermined[k]; };
+  if (d.named.size() < 2 || loose(0)) return d;
+  Decision out;
+  for (size_t k = 0; k < d.named.size(); ++k) {
+    if (k > 0 && loose(k)) {
+      if (dropped) dropped->push_back(d.named[k]);
+    } else {
+      out.named.push_back(d.named[k]);
+    }
+  }
+  out.verdict = out.named.size() > 1 ? "ambiguous" : "found";
+  return out;
+}
+
 std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
                         const DecisionRule& rule) {
   if (&fit == winner) return "";

@@ -59,6 +59,15 @@ bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule
 // per-variant differences above -paired_t): then both are named, the passing one first.
 Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
 
+// Of the named explanations of `d`, drops those after the first whose magnitudes the
+// training data do not pin (`undetermined[k]` for d.named[k]: an effect parameter's range
+// spans most of its allowed values), provided the first is pinned: a fit that is free along
+// a whole direction absorbs the mismatch rather than measures an effect, so it is no rival.
+// The verdict becomes "found" when one explanation remains. Fills `dropped` (may be null)
+// with the dropped fits' indices. The first named is never dropped: it passed every test.
+Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermined,
+                          std::vector<int>* dropped);
+
 // Why `fit` was not named, in words for the report: the first test of BeatsBaseline it
 // fails, with its figures ("cut the held-out error by only 6% (the rule asks 15%)"); for a
 // fit that passed, what the named explanation `winner` (null: none) did better. Empty for

@@ -163,6 +163,19 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
   return out;
 }
 
+double RangeShare(const ParamRange& r, double lo, double hi) {
+  const bool has_lo = r.open_lo || std::isfinite(r.lo), has_hi = r.open_hi || std::isfinite(r.hi);
+  if (!has_lo || !has_hi || !(hi > lo)) return NAN;
+  double a = r.open_lo ? lo : std::clamp(r.lo, lo, hi), b = r.open_hi ? hi : std::clamp(r.hi, lo, hi);
+  if (lo > 0 && hi >= 100 * lo) {
+    a = std::log(a);
+    b = std::log(b);
+    lo = std::log(lo);
+    hi = std::log(hi);
+  }
+  return (b - a) / (hi - lo);
+}
+
 FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
                     const std::vector<std::string>& train_files,
                     const std::vector<double>& weights, double tolerance, uint64_t seed) {

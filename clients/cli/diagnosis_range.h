@@ -26,6 +26,13 @@ struct FitRange {
   int accepted = 0;                // of them within the tolerance
 };
 
+// The share of a parameter's allowed values [lo, hi] that its range r spans (an open side
+// reaches the bound), in log space when lo > 0 and hi >= 100 lo (as AtBound judges them).
+// NAN when r holds no range. At kUndeterminedShare or more the data do not pin the
+// parameter: it is undetermined.
+double RangeShare(const ParamRange& r, double lo, double hi);
+inline constexpr double kUndeterminedShare = 0.9;
+
 // The floor of the weighted training error: the spread of sum_f w_f e_f / n when each
 // file's error e_f varies by its floor (sd over the numeric variants), files independent.
 double TrainingTolerance(const std::vector<double>& weights, const std::vector<double>& floors);

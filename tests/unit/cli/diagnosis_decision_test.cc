@@ -138,6 +138,41 @@ TEST(Decide, ARivalThatFitsFarBetterAndIsNotWorseHeldOutMakesItAmbiguous) {
   EXPECT_EQ(Decide(base, sharing, {}).verdict, "found");
 }
 
+TEST(PreferDetermined, ARivalTheDataDoNotPinIsNoRival) {
+  // The foreign-soft case (session 8): model.resolution first (pinned to 20.6 .. 23.8),
+  // the rival friction.anisotropic + tether.growing free over nearly all its values.
+  Decision d;
+  d.verdict = "ambiguous";
+  d.named = {3, 5};
+  std::vector<int> dropped;
+  Decision p = PreferDetermined(d, {false, true}, &dropped);
+  EXPECT_EQ(p.verdict, "found");
+  EXPECT_EQ(p.named, std::vector<int>({3}));
+  EXPECT_EQ(dropped, std::vector<int>({5}));
+  // Both pinned: still ambiguous, nothing dropped.
+  dropped.clear();
+  p = PreferDetermined(d, {false, false}, &dropped);
+  EXPECT_EQ(p.verdict, "ambiguous");
+  EXPECT_EQ(p.named, d.named);
+  EXPECT_TRUE(dropped.empty());
+  // The first named loose: it passed every test and is not dropped, nor is the rival
+  // promoted: the ambiguity stands.
+  p = PreferDetermined(d, {true, false}, &dropped);
+  EXPECT_EQ(p.verdict, "ambiguous");
+  EXPECT_EQ(p.named, d.named);
+  // A found verdict is left alone, loose or not (the report says which parameter is free).
+  Decision found;
+  found.verdict = "found";
+  found.named = {2};
+  EXPECT_EQ(PreferDetermined(found, {true}, nullptr).named, found.named);
+  EXPECT_EQ(PreferDetermined(Decision{}, {}, nullptr).verdict, "none");
+  // Of three, only the loose one goes.
+  d.named = {1, 4, 6};
+  p = PreferDetermined(d, {false, true, false}, nullptr);
+  EXPECT_EQ(p.verdict, "ambiguous");
+  EXPECT_EQ(p.named, std::vector<int>({1, 6}));
+}
+
 TEST(LeadersToRefit, TopAndItsNearTies) {
   // Screening errors of the foreign lag case (mm): the lag was 4th, 0.7% behind the 3rd.
   const std::vector<double> train = {1.90, 2.01, 2.045, 2.0595, 2.2, 2.21};

@@ -112,5 +112,21 @@ TEST(TrainingTolerance, CombinesTheFilesFloorsByTheirWeights) {
   EXPECT_TRUE(std::isnan(TrainingTolerance({1.0}, {})));
 }
 
+TEST(RangeShare, TheShareOfTheAllowedValuesSpanned) {
+  ParamRange r;
+  EXPECT_TRUE(std::isnan(RangeShare(r, 0, 3)));  // not searched
+  r.lo = 0.75;
+  r.hi = 1.5;
+  EXPECT_NEAR(RangeShare(r, 0, 3), 0.25, 1e-12);
+  r.open_hi = true;  // reached the bound: spans to it
+  EXPECT_NEAR(RangeShare(r, 0, 3), 0.75, 1e-12);
+  // The foreign-soft rival's tether stiffness (session 8): 0.039 .. 50 N/m of 0 .. 50.
+  EXPECT_GE(RangeShare({0.0393, 50, false, false}, 0, 50), kUndeterminedShare);
+  // A soft-links stiffness scale, 0.569 .. 0.616 of 0.3 .. 3: pinned.
+  EXPECT_LT(RangeShare({0.569, 0.616, false, false}, 0.3, 3), 0.05);
+  // Four decades judged in log space, as they are searched: 1e-5 .. 1e-3 of 1e-6 .. 1e-2.
+  EXPECT_NEAR(RangeShare({1e-5, 1e-3, false, false}, 1e-6, 1e-2), 0.5, 1e-12);
+}
+
 }  // namespace
 }  // namespace gaitforge::cli::diagnosis
