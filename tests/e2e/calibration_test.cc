@@ -249,12 +249,17 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(
       whole.out, m,
-      std::regex(R"re("effect.tether_force_n": \{"value": ([-0-9.e]+), "sd": [-0-9.enul]+, "range": \[([-0-9.e]+), ([-0-9.e]+)\]\})re")))
+      std::regex(R"re("effect.tether_force_n": \{"value": ([-0-9.e]+), "sd": [-0-9.enul]+, "range": \[([-0-9.e]+), ([-0-9.e]+)\], "range_share": ([-0-9.e]+)\})re")))
       << whole.out;
   const double value = std::stod(m[1]), lo = std::stod(m[2]), hi = std::stod(m[3]);
   EXPECT_LE(lo, value);
   EXPECT_GE(hi, value);
   EXPECT_LT(lo, hi);
+  // Named, so required and pinned: the range leaves out 0 N (no hose), and spans a small
+  // share of the allowed 0 .. 2.5 N.
+  EXPECT_GT(lo, 0);
+  EXPECT_NEAR(std::stod(m[4]), (hi - lo) / 2.5, 1e-4);
+  EXPECT_LT(std::stod(m[4]), 0.9);
   EXPECT_GT(JsonNumber(whole.out, R"("range_accepted":)"), 1) << whole.out;
   const std::string corrected = ReadFile(dir.File("whole/mini-diagnosis/corrected-model.yaml"));
   ASSERT_NE(corrected.find("effect.tether_force_n="), std::string::npos) << corrected;
