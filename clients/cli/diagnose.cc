@@ -259,17 +259,18 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   // 5. Decide (clients/cli/diagnosis_decision.h).
   DecisionRule rule;
   rule.margin = d.margin();
-  const std::vector<FitScore> scores(full.begin(), full.end());
-  Decision decision = Decide(base, scores, rule);
-  std::vector<const Candidate*> named;
-  for (int i : decision.named) named.push_back(&full[i]);
-
-  // The range of each named fit's parameters that the training data cannot tell from the
-  // fit, given the model's own spread (diagnosis_range.h).
+  // Each named fit's parameters come with the range that the training data cannot tell
+  // from the fit, given the model's own spread (diagnosis_range.h), computed when first
+  // needed; the ranges say whether the data require each named effect and pin it.
   std::map<const Candidate*, FitRange> ranges;
-  if (!named.empty() && train_floors.empty()) (void)FloorWeights(d, train_files, &train_floors);
-  const double tolerance = TrainingTolerance(weights, train_floors);
-  for (const auto* c : named) {
+  std::map<const Candidate*, RangeVerdict> judged;
+  double tolerance = NAN;
+  auto judge = [&](const Candidate* c) -> const RangeVerdict& {
+    if (judged.count(c)) return judged[c];
+    if (ranges.empty()) {
+      if (train_floors.empty()) (void)FloorWeights(d, train_files, &train_floors);
+      tolerance = TrainingTolerance(weights, train_floors);
+    }
     uint64_t seed = d.seed() ^ 0xcbf29ce484222325ull;  // FNV-1a of the label into the seed
     for (unsigned char ch : c->label) seed = (seed ^ ch) * 0x100000001b3ull;
     if (!g.json) std::cerr << "range: " << c->label << " ..." << std::flush;
@@ -280,30 +281,29 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
           " %d evaluations, %d within %.3g mm of the least (%.0f s)\n", ranges[c].evaluations,
           ranges[c].accepted, 1000 * tolerance,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    return judged[c] = JudgeRange(*c, ranges[c], base_genes);
+  };
+  // A first named fit whose effects the data do not require is set aside (DecideRequired);
+  // a rival they do not require or pin is no rival (PreferDetermined).
+  std::vector<int> set_aside, dropped;
+  Decision decision = DecideRequired(
+      base, std::vector<FitScore>(full.begin(), full.end()), rule,
+      [&](int i) { return judge(&full[i]).unneeded.empty(); }, &set_aside);
+  std::vector<bool> weak;
+  for (int i : decision.named) {
+    const RangeVerdict& v = judge(&full[i]);
+    weak.push_back(!v.loose.empty() || !v.unneeded.empty());
   }
-  // A rival whose magnitudes the data do not pin is no rival (PreferDetermined).
-  std::map<const Candidate*, std::string> loose;  // its undetermined parameters, in words
-  std::vector<bool> undetermined;
-  for (const auto* c : named) {
-    std::vector<std::string> words;
-    const FitRange& fr = ranges[c];
-    for (size_t i = base_genes; i < c->genes.size() && i < fr.params.size(); ++i) {
-      const double share = RangeShare(fr.params[i], c->genes[i].lo(), c->genes[i].hi());
-      if (share >= kUndeterminedShare)
-        words.push_back(absl::StrFormat("%s (%.0f%%)", c->genes[i].name(), 100 * share));
-    }
-    undetermined.push_back(!words.empty());
-    if (!words.empty()) loose[c] = absl::StrJoin(words, ", ");
-  }
-  std::vector<int> dropped;
-  decision = PreferDetermined(decision, undetermined, &dropped);
-  named.clear();
+  decision = PreferDetermined(decision, weak, &dropped);
+  std::vector<const Candidate*> named;
   for (int i : decision.named) named.push_back(&full[i]);
   const std::string verdict = decision.verdict;
-  for (int i : dropped)
+  for (int i : set_aside)
     if (!g.json)
-      std::cerr << "not a rival: " << full[i].label << " (the data do not pin "
-                << loose[&full[i]] << " of its allowed values)\n";
+      std::cerr << "not required: " << full[i].label << " (" << judged[&full[i]].unneeded
+                << ")\n";
+  for (int i : dropped)
+    if (!g.json) std::cerr << "not a rival: " << full[i].label << "\n";
 
   // 6. The corrected model: a caterpillar.distance option ready for new gait studies.
   std::string corrected;
@@ -323,12 +323,23 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
 
   // Report: JSON and words.
   auto why_not = [&](const Candidate& c) {
-    if (std::find(dropped.begin(), dropped.end(), &c - full.data()) != dropped.end())
+    const int i = static_cast<int>(&c - full.data());
+    if (std::find(set_aside.begin(), set_aside.end(), i) != set_aside.end())
       return absl::StrFormat(
-          "a rival of %s within the decision's margins, but the training data do not pin its "
-          "magnitudes: %s of the allowed values fit within the model's own spread. Free along a "
-          "whole direction, it absorbs the mismatch rather than measures an effect",
-          named[0]->label, loose[&c]);
+          "passed every test, but the data do not require it: %s, the model without the "
+          "effect, within the training error's own spread of the fit",
+          judged[&c].unneeded);
+    if (std::find(dropped.begin(), dropped.end(), i) != dropped.end()) {
+      const RangeVerdict& v = judged[&c];
+      return absl::StrFormat(
+          "a rival of %s within the decision's margins, but the training data %s: it absorbs "
+          "the mismatch rather than measures an effect",
+          named[0]->label,
+          !v.unneeded.empty()
+              ? "do not require it: " + v.unneeded + ", the model without the effect"
+              : "do not pin its magnitudes: " + v.loose +
+                    " of the allowed values fit within the model's own spread");
+    }
     return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule);
   };
   auto effect_json = [&](const Candidate& c) {

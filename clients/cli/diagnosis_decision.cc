@@ -147,6 +147,16 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   return d;
 }
 
+Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
+                        const std::function<bool(int)>& required, std::vector<int>* set_aside) {
+  for (;;) {
+    Decision d = Decide(base, fits, rule);
+    if (d.named.empty() || required(d.named[0])) return d;
+    fits[d.named[0]].ok = false;  // neither named nor a rival any more
+    if (set_aside) set_aside->push_back(d.named[0]);
+  }
+}
+
 Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermined,
                           std::vector<int>* dropped) {
   auto loose = [&](size_t k) { return k < undetermined.size() && undetermined[k]; };

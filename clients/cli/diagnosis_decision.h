@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,15 @@ bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule
 // it on training by the margin and is not worse held out by the paired test (t of their
 // per-variant differences above -paired_t): then both are named, the passing one first.
 Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
+
+// Decide, then ask `required(i)` of the first named fit i: whether the data require every
+// effect it names (each effect parameter's range excludes the value that leaves the model
+// as it is, so the model without the effect does not fit as well). A fit they do not
+// require is set aside, as if it had failed its tests, and the decision taken again, until
+// the first named is required or nothing is named. Fills `set_aside` (may be null) with the
+// fits set aside, in order.
+Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
+                        const std::function<bool(int)>& required, std::vector<int>* set_aside);
 
 // Of the named explanations of `d`, drops those after the first whose magnitudes the
 // training data do not pin (`undetermined[k]` for d.named[k]: an effect parameter's range

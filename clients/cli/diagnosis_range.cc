@@ -6,6 +6,10 @@
 #include <cmath>
 #include <random>
 
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "workers/effects/effects.h"
+
 namespace gaitforge::cli::diagnosis {
 namespace {
 
@@ -174,6 +178,36 @@ double RangeShare(const ParamRange& r, double lo, double hi) {
     hi = std::log(hi);
   }
   return (b - a) / (hi - lo);
+}
+
+bool RangeHolds(const ParamRange& r, double x, double lo, double hi) {
+  const double a = r.open_lo ? lo : r.lo, b = r.open_hi ? hi : r.hi;
+  return a <= x && x <= b;  // false with a NAN end
+}
+
+RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effect_gene) {
+  std::vector<std::string> loose, unneeded;
+  auto end = [](double v, bool open, double bound) {
+    return absl::StrFormat("%.3g%s", open ? bound : v, open ? " (open)" : "");
+  };
+  for (size_t i = first_effect_gene; i < c.genes.size() && i < r.params.size(); ++i) {
+    const auto& g = c.genes[i];
+    if (g.name().rfind("nuisance.", 0) == 0) continue;
+    const ParamRange& p = r.params[i];
+    const double share = RangeShare(p, g.lo(), g.hi());
+    if (share >= kUndeterminedShare)
+      loose.push_back(absl::StrFormat("%s (%.0f%%)", g.name(), 100 * share));
+    for (const std::string& id : c.effects) {
+      const auto* e = effects::FindEffect(id);
+      if (!e) continue;
+      for (const auto& param : e->params)
+        if (param.name == g.name() && RangeHolds(p, param.nominal, g.lo(), g.hi()))
+          unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
+                                             end(p.lo, p.open_lo, g.lo()),
+                                             end(p.hi, p.open_hi, g.hi()), param.nominal));
+    }
+  }
+  return {absl::StrJoin(loose, ", "), absl::StrJoin(unneeded, "; ")};
 }
 
 FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,

@@ -33,6 +33,19 @@ struct FitRange {
 double RangeShare(const ParamRange& r, double lo, double hi);
 inline constexpr double kUndeterminedShare = 0.9;
 
+// Whether r holds x (an open side reaches the bound lo or hi); false when r holds no range.
+bool RangeHolds(const ParamRange& r, double x, double lo, double hi);
+
+// What a fitted explanation's ranges say of it, in words for the report ("" when nothing):
+// `loose`, its effect parameters that are not pinned (RangeShare at kUndeterminedShare or
+// more); `unneeded`, those whose range holds the value that leaves the model as it is (the
+// effect absent, effects::EffectInfo::Param::nominal), so that the data do not require it.
+// Genes before `first_effect_gene` (the base parameters) and nuisances are not judged.
+struct RangeVerdict {
+  std::string loose, unneeded;
+};
+RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effect_gene);
+
 // The floor of the weighted training error: the spread of sum_f w_f e_f / n when each
 // file's error e_f varies by its floor (sd over the numeric variants), files independent.
 double TrainingTolerance(const std::vector<double>& weights, const std::vector<double>& floors);

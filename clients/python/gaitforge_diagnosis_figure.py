@@ -65,8 +65,9 @@ def _magnitudes(rep):
         for name, p in e["params"].items():
             if "range" in p:
                 lo, hi = p["range"]
+                loose = ", not pinned" if (p.get("range_share") or 0) >= 0.9 else ""
                 parts.append(f"{name.replace('effect.', '')} {p['value']:.3g} "
-                             f"(range {end(lo)}..{end(hi)})")
+                             f"(range {end(lo)}..{end(hi)}{loose})")
     return "; ".join(parts)
 
 

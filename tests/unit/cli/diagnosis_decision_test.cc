@@ -173,6 +173,36 @@ TEST(PreferDetermined, ARivalTheDataDoNotPinIsNoRival) {
   EXPECT_EQ(p.named, std::vector<int>({1, 6}));
 }
 
+TEST(DecideRequired, SetsAsideAFitTheDataDoNotRequireAndDecidesAgain) {
+  // The shipped deadband case (session 8): the pair with a force scale is named, but the
+  // force's range holds the model's 8.8 N; the deadband alone passed every test too.
+  const FitScore base = Fit({}, 0, {0.9, 0.95, 0.85, 0.9, 0.92, 0.88});
+  const std::vector<FitScore> fits = {
+      Fit({"actuator.deadband"}, -3000, {0.5, 0.55, 0.48, 0.5, 0.53, 0.52}),
+      Fit({"actuator.deadband", "actuator.force_scale"}, -3500, {0.42, 0.46, 0.41, 0.44, 0.45, 0.43}),
+      Fit({"tether.constant"}, -2000, {0.8, 0.9, 0.7, 0.6, 0.8, 0.7})};
+  ASSERT_EQ(Decide(base, fits, {}).named, std::vector<int>({1}));
+  std::vector<int> asked, aside;
+  auto required = [&](int i) {
+    asked.push_back(i);
+    return i != 1;
+  };
+  Decision d = DecideRequired(base, fits, {}, required, &aside);
+  EXPECT_EQ(d.verdict, "found");
+  EXPECT_EQ(d.named, std::vector<int>({0}));
+  EXPECT_EQ(aside, std::vector<int>({1}));
+  EXPECT_EQ(asked, std::vector<int>({1, 0}));
+  // Nothing required: nothing named (the slope paired with a growing tether on the shipped
+  // slope-steep case, whose slope range holds 0, and no other fit passing).
+  aside.clear();
+  d = DecideRequired(base, {fits[1]}, {}, [](int) { return false; }, &aside);
+  EXPECT_EQ(d.verdict, "none");
+  EXPECT_EQ(aside, std::vector<int>({0}));
+  // Everything required: Decide's verdict.
+  d = DecideRequired(base, fits, {}, [](int) { return true; }, nullptr);
+  EXPECT_EQ(d.named, Decide(base, fits, {}).named);
+}
+
 TEST(LeadersToRefit, TopAndItsNearTies) {
   // Screening errors of the foreign lag case (mm): the lag was 4th, 0.7% behind the 3rd.
   const std::vector<double> train = {1.90, 2.01, 2.045, 2.0595, 2.2, 2.21};

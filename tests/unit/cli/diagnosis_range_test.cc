@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 namespace gaitforge::cli::diagnosis {
@@ -126,6 +127,48 @@ TEST(RangeShare, TheShareOfTheAllowedValuesSpanned) {
   EXPECT_LT(RangeShare({0.569, 0.616, false, false}, 0.3, 3), 0.05);
   // Four decades judged in log space, as they are searched: 1e-5 .. 1e-3 of 1e-6 .. 1e-2.
   EXPECT_NEAR(RangeShare({1e-5, 1e-3, false, false}, 1e-6, 1e-2), 0.5, 1e-12);
+}
+
+TEST(RangeHolds, OpenSidesReachTheBounds) {
+  EXPECT_TRUE(RangeHolds({-0.3, 0.293, false, false}, 0, -0.3, 0.3));  // slope-steep's slope
+  EXPECT_FALSE(RangeHolds({0.868, 2.29, false, false}, 0, 0, 3));       // deadband's band
+  EXPECT_TRUE(RangeHolds({7.37, NAN, false, true}, 8.8, 3, 12));         // open above
+  EXPECT_TRUE(RangeHolds({NAN, NAN, true, true}, 0, 0, 3));              // open both sides
+  EXPECT_FALSE(RangeHolds(ParamRange{}, 0, 0, 3));                       // no range
+}
+
+Candidate PairWithForce() {
+  Candidate c;
+  c.effects = {"actuator.deadband", "actuator.force_scale"};
+  for (const auto& [name, lo, hi] : {std::tuple{"effect.actuator_deadband_n", 0.0, 3.0},
+                                     std::tuple{"actuators.force_n", 3.0, 12.0},
+                                     std::tuple{"nuisance.time_offset_s", -0.05, 0.05}}) {
+    v1::GeneBound g;
+    g.set_name(name);
+    g.set_lo(lo);
+    g.set_hi(hi);
+    c.genes.push_back(g);
+  }
+  return c;
+}
+
+TEST(JudgeRange, SaysWhichEffectTheDataDoNotRequireOrPin) {
+  // The shipped deadband case: the band is required, the force's range holds 8.8 N.
+  FitRange r;
+  r.params = {{0.868, 2.29, false, false}, {7.93, 11.8, false, false}, {}};
+  RangeVerdict v = JudgeRange(PairWithForce(), r, 0);
+  EXPECT_EQ(v.loose, "");
+  EXPECT_EQ(v.unneeded, "actuators.force_n's range 7.93 .. 11.8 holds 8.8");
+  // The foreign-lag case (session 9): the band open on both sides, neither required nor
+  // pinned.
+  r.params = {{NAN, NAN, true, true}, {7.37, NAN, false, true}, {}};
+  v = JudgeRange(PairWithForce(), r, 0);
+  EXPECT_EQ(v.loose, "effect.actuator_deadband_n (100%)");
+  EXPECT_EQ(v.unneeded,
+            "effect.actuator_deadband_n's range 0 (open) .. 3 (open) holds 0; "
+            "actuators.force_n's range 7.37 .. 12 (open) holds 8.8");
+  // Base parameters (before the first effect gene) are not judged.
+  EXPECT_EQ(JudgeRange(PairWithForce(), r, 2).unneeded, "");
 }
 
 }  // namespace
