@@ -29,6 +29,8 @@ COS30 = math.cos(math.radians(30))
 CASES = [
     ("foreign-null-a", {}, "none", [], {}, 201),
     ("foreign-null-b", {"contact_k": 5e4}, "none", [], {}, 202),
+    # Another tuning of the rig's contact law: half as damped, a tangential spring 3x stiffer.
+    ("foreign-null-c", {"contact_zeta": 0.25, "stick_k": 6e4}, "none", [], {}, 210),
     ("foreign-hose", {"hose_n": 0.3}, "tether.constant", ["tether.constant", "tether.growing"],
      {"effect.tether_force_n": 0.3 * COS30}, 203),
     ("foreign-drag", {"drag2_n_s2_per_m2": 40.0}, "friction.viscous", ["friction.viscous"], {}, 205),

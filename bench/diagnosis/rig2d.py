@@ -137,8 +137,11 @@ class Rig:
         self.eff = effects
         lump_x = np.repeat(np.arange(6) * SPACING, SUB) + np.tile((2 * np.arange(SUB) + 1) * A - LUMP_X / 2, 6)
         self.x = np.tile(lump_x, (self.b, 1))
-        # Rig variants per run (not effects): the contact's stiffness.
+        # Rig variants per run (not effects): the contact's stiffness, damping ratio and
+        # tangential (stick) stiffness.
         self.kc = np.array([e.get("contact_k", K_CONTACT) for e in effects])[:, None]
+        self.zc = np.array([e.get("contact_zeta", ZETA_CONTACT) for e in effects])[:, None]
+        self.ks = np.array([e.get("stick_k", K_STICK) for e in effects])[:, None]
         self.z = np.tile(B - M * G / 2 / self.kc, (1, N))
         self.th = np.zeros((self.b, N))
         self.vx = np.zeros((self.b, N))
@@ -242,8 +245,8 @@ class Rig:
         return level * np.tanh(rate / 0.01)
 
     def _contacts(self, fx, fz, tq):
-        c_n = _crit(self.kc, M / 2, ZETA_CONTACT)
-        c_t = _crit(K_STICK, M / 2, ZETA_CONTACT)
+        c_n = _crit(self.kc, M / 2, self.zc)
+        c_t = _crit(self.ks, M / 2, self.zc)
         for corner, cx in enumerate((-A, A)):
             ox, oz = _world(self.th, cx, -B)
             px, pz = self.x + ox, self.z + oz
@@ -253,12 +256,12 @@ class Rig:
             anchor = self.anchor[:, :, corner]
             anchor = np.where(touching & np.isnan(anchor), px, anchor)
             anchor = np.where(touching, anchor, np.nan)
-            ft = np.where(touching, -K_STICK * (px - anchor) - c_t * vx, 0.0)
+            ft = np.where(touching, -self.ks * (px - anchor) - c_t * vx, 0.0)
             limit = MU * fn
             slip = np.abs(ft) > limit
             ft = np.clip(ft, -limit, limit)
             # Sliding: move the stick point so that the spring holds the friction limit.
-            anchor = np.where(slip, px + ft / K_STICK, anchor)
+            anchor = np.where(slip, px + ft / self.ks, anchor)
             self.anchor[:, :, corner] = anchor
             fx += ft
             fz += fn
