@@ -326,8 +326,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     const int i = static_cast<int>(&c - full.data());
     if (std::find(set_aside.begin(), set_aside.end(), i) != set_aside.end())
       return absl::StrFormat(
-          "passed every test, but the data do not require it: %s, the model without the "
-          "effect, within the training error's own spread of the fit",
+          "passed every test, but the data do not require it: the model without the effect "
+          "fits the training data within their own spread of the fit (%s)",
           judged[&c].unneeded);
     if (std::find(dropped.begin(), dropped.end(), i) != dropped.end()) {
       const RangeVerdict& v = judged[&c];
@@ -336,7 +336,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
           "the mismatch rather than measures an effect",
           named[0]->label,
           !v.unneeded.empty()
-              ? "do not require it: " + v.unneeded + ", the model without the effect"
+              ? "do not require it (" + v.unneeded + ")"
               : "do not pin its magnitudes: " + v.loose +
                     " of the allowed values fit within the model's own spread");
     }
