@@ -288,7 +288,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   std::vector<int> set_aside, dropped;
   Decision decision = DecideRequired(
       base, std::vector<FitScore>(full.begin(), full.end()), rule,
-      [&](int i) { return judge(&full[i]).unneeded.empty(); }, &set_aside);
+      [&](int i) { return judge(&full[i]).unneeded_effects; }, &set_aside);
   std::vector<bool> weak;
   for (int i : decision.named) {
     const RangeVerdict& v = judge(&full[i]);

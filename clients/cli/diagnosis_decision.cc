@@ -91,7 +91,8 @@ bool Overlaps(const FitScore& a, const FitScore& b) {
 
 }  // namespace
 
-Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule) {
+Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule,
+                int prefer) {
   std::vector<int> order;
   for (int i = 0; i < static_cast<int>(fits.size()); ++i) order.push_back(i);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
@@ -113,6 +114,8 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   // training error (and so BIC) of the hopping robot is dominated by one chaotic gait.
   std::stable_sort(winners.begin(), winners.end(),
                    [&](int a, int b) { return fits[a].held < fits[b].held; });
+  if (auto p = std::find(winners.begin(), winners.end(), prefer); p != winners.end())
+    std::rotate(winners.begin(), p, p + 1);
   // A larger fit that survived its members replaces the best single it contains.
   if (!winners.empty() && fits[winners[0]].effects.size() == 1) {
     for (size_t i = 1; i < winners.size(); ++i) {
@@ -148,12 +151,27 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
 }
 
 Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
-                        const std::function<bool(int)>& required, std::vector<int>* set_aside) {
+                        const std::function<std::vector<std::string>(int)>& unneeded,
+                        std::vector<int>* set_aside) {
+  int prefer = -1;
   for (;;) {
-    Decision d = Decide(base, fits, rule);
-    if (d.named.empty() || required(d.named[0])) return d;
-    fits[d.named[0]].ok = false;  // neither named nor a rival any more
-    if (set_aside) set_aside->push_back(d.named[0]);
+    Decision d = Decide(base, fits, rule, prefer);
+    if (d.named.empty()) return d;
+    const int first = d.named[0];
+    const std::vector<std::string> drop = unneeded(first);
+    if (drop.empty()) return d;
+    fits[first].ok = false;  // neither named nor a rival any more
+    if (set_aside) set_aside->push_back(first);
+    std::vector<std::string> rest;
+    for (const auto& e : fits[first].effects)
+      if (std::find(drop.begin(), drop.end(), e) == drop.end()) rest.push_back(e);
+    std::sort(rest.begin(), rest.end());
+    prefer = -1;
+    for (int i = 0; i < static_cast<int>(fits.size()) && !rest.empty(); ++i) {
+      std::vector<std::string> effects = fits[i].effects;
+      std::sort(effects.begin(), effects.end());
+      if (effects == rest && BeatsBaseline(base, fits[i], rule)) prefer = i;
+    }
   }
 }
 

@@ -58,16 +58,22 @@ bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule
 // within the BIC margin of it, or when a fit with no effect in common (passing or not) beats
 // it on training by the margin and is not worse held out by the paired test (t of their
 // per-variant differences above -paired_t): then both are named, the passing one first.
-Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule);
+// `prefer` (an index, or -1): a fit to name first if it passes, whatever its held-out rank
+// (DecideRequired's reduced explanation).
+Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const DecisionRule& rule,
+                int prefer = -1);
 
-// Decide, then ask `required(i)` of the first named fit i: whether the data require every
-// effect it names (each effect parameter's range excludes the value that leaves the model
-// as it is, so the model without the effect does not fit as well). A fit they do not
-// require is set aside, as if it had failed its tests, and the decision taken again, until
-// the first named is required or nothing is named. Fills `set_aside` (may be null) with the
-// fits set aside, in order.
+// Decide, then ask `unneeded(i)` of the first named fit i: which of its effects the data
+// do not require (an effect parameter's range holds the value that leaves the model as it
+// is, so the model without the effect fits as well). A fit with such an effect is set
+// aside, as if it had failed its tests, and the decision taken again, until the first named
+// is required or nothing is named. When the fit that remains of the set-aside one without
+// its unneeded effects (a pair's other member) passed every test, it is named first: the
+// set-aside fit's own evidence is that this member carries the explanation. Fills
+// `set_aside` (may be null) with the fits set aside, in order.
 Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
-                        const std::function<bool(int)>& required, std::vector<int>* set_aside);
+                        const std::function<std::vector<std::string>(int)>& unneeded,
+                        std::vector<int>* set_aside);
 
 // Of the named explanations of `d`, drops those after the first whose magnitudes the
 // training data do not pin (`undetermined[k]` for d.named[k]: an effect parameter's range

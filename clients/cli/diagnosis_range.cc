@@ -186,7 +186,7 @@ bool RangeHolds(const ParamRange& r, double x, double lo, double hi) {
 }
 
 RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effect_gene) {
-  std::vector<std::string> loose, unneeded;
+  std::vector<std::string> loose, unneeded, ids;
   auto end = [](double v, bool open, double bound) {
     return absl::StrFormat("%.3g%s", open ? bound : v, open ? " (open)" : "");
   };
@@ -200,14 +200,16 @@ RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effe
     for (const std::string& id : c.effects) {
       const auto* e = effects::FindEffect(id);
       if (!e) continue;
-      for (const auto& param : e->params)
-        if (param.name == g.name() && RangeHolds(p, param.nominal, g.lo(), g.hi()))
-          unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
+      for (const auto& param : e->params) {
+        if (param.name != g.name() || !RangeHolds(p, param.nominal, g.lo(), g.hi())) continue;
+        if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+        unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
                                              end(p.lo, p.open_lo, g.lo()),
                                              end(p.hi, p.open_hi, g.hi()), param.nominal));
+      }
     }
   }
-  return {absl::StrJoin(loose, ", "), absl::StrJoin(unneeded, "; ")};
+  return {absl::StrJoin(loose, ", "), absl::StrJoin(unneeded, "; "), ids};
 }
 
 FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,

@@ -43,6 +43,7 @@ bool RangeHolds(const ParamRange& r, double x, double lo, double hi);
 // Genes before `first_effect_gene` (the base parameters) and nuisances are not judged.
 struct RangeVerdict {
   std::string loose, unneeded;
+  std::vector<std::string> unneeded_effects;  // the ids of the effects `unneeded` names
 };
 RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effect_gene);
 

@@ -182,12 +182,13 @@ TEST(DecideRequired, SetsAsideAFitTheDataDoNotRequireAndDecidesAgain) {
       Fit({"actuator.deadband", "actuator.force_scale"}, -3500, {0.42, 0.46, 0.41, 0.44, 0.45, 0.43}),
       Fit({"tether.constant"}, -2000, {0.8, 0.9, 0.7, 0.6, 0.8, 0.7})};
   ASSERT_EQ(Decide(base, fits, {}).named, std::vector<int>({1}));
+  using Ids = std::vector<std::string>;
   std::vector<int> asked, aside;
-  auto required = [&](int i) {
+  auto unneeded = [&](int i) {
     asked.push_back(i);
-    return i != 1;
+    return i == 1 ? Ids{"actuator.force_scale"} : Ids{};
   };
-  Decision d = DecideRequired(base, fits, {}, required, &aside);
+  Decision d = DecideRequired(base, fits, {}, unneeded, &aside);
   EXPECT_EQ(d.verdict, "found");
   EXPECT_EQ(d.named, std::vector<int>({0}));
   EXPECT_EQ(aside, std::vector<int>({1}));
@@ -195,12 +196,37 @@ TEST(DecideRequired, SetsAsideAFitTheDataDoNotRequireAndDecidesAgain) {
   // Nothing required: nothing named (the slope paired with a growing tether on the shipped
   // slope-steep case, whose slope range holds 0, and no other fit passing).
   aside.clear();
-  d = DecideRequired(base, {fits[1]}, {}, [](int) { return false; }, &aside);
+  d = DecideRequired(base, {fits[1]}, {}, [](int) { return Ids{"actuator.deadband"}; }, &aside);
   EXPECT_EQ(d.verdict, "none");
   EXPECT_EQ(aside, std::vector<int>({0}));
   // Everything required: Decide's verdict.
-  d = DecideRequired(base, fits, {}, [](int) { return true; }, nullptr);
+  d = DecideRequired(base, fits, {}, [](int) { return Ids{}; }, nullptr);
   EXPECT_EQ(d.named, Decide(base, fits, {}).named);
+}
+
+TEST(DecideRequired, NamesWhatRemainsOfASetAsideFitWhenItPassed) {
+  // foreign-lag-strong (session 9): the lag with a force scale predicts the held-out gait
+  // best, but the force's range holds the model's 8.8 N; of the rest the force scale alone
+  // predicts it better than the lag alone. What the pair says is that the lag carries it.
+  const FitScore base = Fit({}, 0, {1.6, 1.5, 1.6, 1.55, 1.5, 1.6});
+  const std::vector<FitScore> fits = {
+      Fit({"actuator.force_scale"}, -1900, {0.84, 0.87, 0.83, 1.03, 0.83, 0.86}),
+      Fit({"actuator.lag", "actuator.force_scale"}, -2585, {0.52, 0.49, 0.52, 0.43, 1.02, 1.54}),
+      Fit({"actuator.lag"}, -2492, {0.47, 0.47, 1.59, 0.67, 1.14, 1.65}),
+      Fit({"actuator.deadband"}, -1887, {1.14, 1.03, 1.08, 1.15, 1.11, 1.1})};
+  ASSERT_TRUE(BeatsBaseline(base, fits[2], {}));
+  ASSERT_EQ(Decide(base, fits, {}).named[0], 1);
+  using Ids = std::vector<std::string>;
+  std::vector<int> aside;
+  const Decision d = DecideRequired(
+      base, fits, {}, [](int i) { return i == 1 ? Ids{"actuator.force_scale"} : Ids{}; }, &aside);
+  EXPECT_EQ(d.verdict, "found");
+  EXPECT_EQ(d.named, std::vector<int>({2}));
+  EXPECT_EQ(aside, std::vector<int>({1}));
+  // Without the reduction the force scale alone, the wrong name, would win.
+  std::vector<FitScore> without = fits;
+  without[1].ok = false;
+  EXPECT_EQ(Decide(base, without, {}).named[0], 0);
 }
 
 TEST(LeadersToRefit, TopAndItsNearTies) {

@@ -159,6 +159,7 @@ TEST(JudgeRange, SaysWhichEffectTheDataDoNotRequireOrPin) {
   RangeVerdict v = JudgeRange(PairWithForce(), r, 0);
   EXPECT_EQ(v.loose, "");
   EXPECT_EQ(v.unneeded, "actuators.force_n's range 7.93 .. 11.8 holds 8.8");
+  EXPECT_EQ(v.unneeded_effects, std::vector<std::string>({"actuator.force_scale"}));
   // The foreign-lag case (session 9): the band open on both sides, neither required nor
   // pinned.
   r.params = {{NAN, NAN, true, true}, {7.37, NAN, false, true}, {}};
