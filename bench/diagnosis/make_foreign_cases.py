@@ -33,9 +33,14 @@ CASES = [
     ("foreign-null-c", {"contact_zeta": 0.25, "stick_k": 6e4}, "none", [], {}, 210),
     ("foreign-hose", {"hose_n": 0.3}, "tether.constant", ["tether.constant", "tether.growing"],
      {"effect.tether_force_n": 0.3 * COS30}, 203),
+    # The paper's story at full strength: a hose pulling 0.8 N (0.69 N horizontal).
+    ("foreign-hose-strong", {"hose_n": 0.8}, "tether.constant",
+     ["tether.constant", "tether.growing"], {"effect.tether_force_n": 0.8 * COS30}, 211),
     ("foreign-drag", {"drag2_n_s2_per_m2": 40.0}, "friction.viscous", ["friction.viscous"], {}, 205),
     ("foreign-lag", {"actuator_lag_s": 0.04}, "actuator.lag", ["actuator.lag", "actuator.delay"],
      {"effect.actuator_lag_s": 0.04}, 206),
+    ("foreign-lag-strong", {"actuator_lag_s": 0.08}, "actuator.lag",
+     ["actuator.lag", "actuator.delay"], {"effect.actuator_lag_s": 0.08}, 212),
     ("foreign-weak", {"force_scale": 0.8}, "actuator.force_scale", ["actuator.force_scale"],
      {"actuators.force_n": 0.8 * 8.8}, 207),
     # Seal friction sliding at 0.8 N with a 1.2 N breakaway: the library's deadband is one
