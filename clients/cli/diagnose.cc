@@ -298,6 +298,15 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   std::vector<const Candidate*> named;
   for (int i : decision.named) named.push_back(&full[i]);
   const std::string verdict = decision.verdict;
+  // The set-aside fit that the named one remains of (DecideRequired), if any.
+  const Candidate* source = nullptr;
+  for (int i : set_aside)
+    if (!named.empty() && named[0]->effects.size() < full[i].effects.size() &&
+        std::all_of(named[0]->effects.begin(), named[0]->effects.end(), [&](const auto& e) {
+          return std::find(full[i].effects.begin(), full[i].effects.end(), e) !=
+                 full[i].effects.end();
+        }))
+      source = &full[i];
   for (int i : set_aside)
     if (!g.json)
       std::cerr << "not required: " << full[i].label << " (" << judged[&full[i]].unneeded
@@ -340,6 +349,13 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
               : "do not pin its magnitudes: " + v.loose +
                     " of the allowed values fit within the model's own spread");
     }
+    if (source && BeatsBaseline(base, c, rule) && c.held < named[0]->held)
+      return absl::StrFormat(
+          "passed every test and predicts the held-out recordings better than the named "
+          "explanation (%.3g against %.3g mm), but of %s (held out %.3g mm, set aside) the "
+          "data require only %s, which is named for it",
+          1000 * c.held, 1000 * named[0]->held, source->label, 1000 * source->held,
+          named[0]->label);
     return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule);
   };
   auto effect_json = [&](const Candidate& c) {
