@@ -298,15 +298,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   std::vector<const Candidate*> named;
   for (int i : decision.named) named.push_back(&full[i]);
   const std::string verdict = decision.verdict;
-  // The set-aside fit that the named one remains of (DecideRequired), if any.
-  const Candidate* source = nullptr;
-  for (int i : set_aside)
-    if (!named.empty() && named[0]->effects.size() < full[i].effects.size() &&
-        std::all_of(named[0]->effects.begin(), named[0]->effects.end(), [&](const auto& e) {
-          return std::find(full[i].effects.begin(), full[i].effects.end(), e) !=
-                 full[i].effects.end();
-        }))
-      source = &full[i];
+  const Candidate* source = decision.remainder_of >= 0 ? &full[decision.remainder_of] : nullptr;
   for (int i : set_aside)
     if (!g.json)
       std::cerr << "not required: " << full[i].label << " (" << judged[&full[i]].unneeded

@@ -28,8 +28,10 @@ int LeadersToRefit(const std::vector<double>& train, int top, double tie, int ma
   return k;
 }
 
+bool LogScaled(double lo, double hi) { return lo > 0 && hi >= 100 * lo; }
+
 bool AtBound(double x, double lo, double hi, double fraction) {
-  if (lo > 0 && hi >= 100 * lo) {
+  if (LogScaled(lo, hi)) {
     x = std::log(std::max(x, 1e-300));
     lo = std::log(lo);
     hi = std::log(hi);
@@ -153,13 +155,16 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
 Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
                         const std::function<std::vector<std::string>(int)>& unneeded,
                         std::vector<int>* set_aside) {
-  int prefer = -1;
+  int prefer = -1, source = -1;
   for (;;) {
     Decision d = Decide(base, fits, rule, prefer);
     if (d.named.empty()) return d;
     const int first = d.named[0];
     const std::vector<std::string> drop = unneeded(first);
-    if (drop.empty()) return d;
+    if (drop.empty()) {
+      if (first == prefer) d.remainder_of = source;
+      return d;
+    }
     fits[first].ok = false;  // neither named nor a rival any more
     if (set_aside) set_aside->push_back(first);
     std::vector<std::string> rest;
@@ -172,6 +177,7 @@ Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const 
       std::sort(effects.begin(), effects.end());
       if (effects == rest && BeatsBaseline(base, fits[i], rule)) prefer = i;
     }
+    source = first;
   }
 }
 
@@ -179,7 +185,8 @@ Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermin
                           std::vector<int>* dropped) {
   auto loose = [&](size_t k) { return k < undetermined.size() && undetermined[k]; };
   if (d.named.size() < 2 || loose(0)) return d;
-  Decision out;
+  Decision out = d;
+  out.named.clear();
   for (size_t k = 0; k < d.named.size(); ++k) {
     if (k > 0 && loose(k)) {
       if (dropped) dropped->push_back(d.named[k]);

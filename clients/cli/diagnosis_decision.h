@@ -31,6 +31,7 @@ struct DecisionRule {
 struct Decision {
   std::string verdict = "none";  // "found", "ambiguous" or "none"
   std::vector<int> named;        // indices into the fits: the explanation(s), best first
+  int remainder_of = -1;         // DecideRequired: the set-aside fit named[0] remains of
 };
 
 // How many screened candidates to refit fully: the first `top` of `train` (training errors
@@ -40,7 +41,8 @@ int LeadersToRefit(const std::vector<double>& train, int top, double tie, int ma
 
 // Whether x sits within `fraction` of [lo, hi]'s width from an edge (a zero edge excepted:
 // "no effect" is a plausible value). Ranges spanning two decades or more with lo > 0 are
-// judged in log space, as their parameters are searched.
+// judged in log space, as their parameters are searched (LogScaled).
+bool LogScaled(double lo, double hi);
 bool AtBound(double x, double lo, double hi, double fraction = 0.02);
 
 // Paired t statistic of a - b over the variants (positive when b has the lower errors);
@@ -69,7 +71,8 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
 // aside, as if it had failed its tests, and the decision taken again, until the first named
 // is required or nothing is named. When the fit that remains of the set-aside one without
 // its unneeded effects (a pair's other member) passed every test, it is named first: the
-// set-aside fit's own evidence is that this member carries the explanation. Fills
+// set-aside fit's own evidence is that this member carries the explanation (the verdict's
+// `remainder_of` is then that fit). Fills
 // `set_aside` (may be null) with the fits set aside, in order.
 Decision DecideRequired(const FitScore& base, std::vector<FitScore> fits, const DecisionRule& rule,
                         const std::function<std::vector<std::string>(int)>& unneeded,

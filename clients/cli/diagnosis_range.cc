@@ -2,6 +2,8 @@
 // tell from the fit, given the model's own numerical spread.
 #include "clients/cli/diagnosis_range.h"
 
+#include "clients/cli/diagnosis_decision.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -171,7 +173,7 @@ double RangeShare(const ParamRange& r, double lo, double hi) {
   const bool has_lo = r.open_lo || std::isfinite(r.lo), has_hi = r.open_hi || std::isfinite(r.hi);
   if (!has_lo || !has_hi || !(hi > lo)) return NAN;
   double a = r.open_lo ? lo : std::clamp(r.lo, lo, hi), b = r.open_hi ? hi : std::clamp(r.hi, lo, hi);
-  if (lo > 0 && hi >= 100 * lo) {
+  if (LogScaled(lo, hi)) {
     a = std::log(a);
     b = std::log(b);
     lo = std::log(lo);

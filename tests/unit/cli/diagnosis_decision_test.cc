@@ -168,7 +168,9 @@ TEST(PreferDetermined, ARivalTheDataDoNotPinIsNoRival) {
   EXPECT_EQ(PreferDetermined(Decision{}, {}, nullptr).verdict, "none");
   // Of three, only the loose one goes.
   d.named = {1, 4, 6};
+  d.remainder_of = 7;  // kept
   p = PreferDetermined(d, {false, true, false}, nullptr);
+  EXPECT_EQ(p.remainder_of, 7);
   EXPECT_EQ(p.verdict, "ambiguous");
   EXPECT_EQ(p.named, std::vector<int>({1, 6}));
 }
@@ -193,6 +195,7 @@ TEST(DecideRequired, SetsAsideAFitTheDataDoNotRequireAndDecidesAgain) {
   EXPECT_EQ(d.named, std::vector<int>({0}));
   EXPECT_EQ(aside, std::vector<int>({1}));
   EXPECT_EQ(asked, std::vector<int>({1, 0}));
+  EXPECT_EQ(d.remainder_of, 1);  // the deadband is what remains of the pair
   // Nothing required: nothing named (the slope paired with a growing tether on the shipped
   // slope-steep case, whose slope range holds 0, and no other fit passing).
   aside.clear();
@@ -202,6 +205,7 @@ TEST(DecideRequired, SetsAsideAFitTheDataDoNotRequireAndDecidesAgain) {
   // Everything required: Decide's verdict.
   d = DecideRequired(base, fits, {}, [](int) { return Ids{}; }, nullptr);
   EXPECT_EQ(d.named, Decide(base, fits, {}).named);
+  EXPECT_EQ(d.remainder_of, -1);
 }
 
 TEST(DecideRequired, NamesWhatRemainsOfASetAsideFitWhenItPassed) {
@@ -222,6 +226,7 @@ TEST(DecideRequired, NamesWhatRemainsOfASetAsideFitWhenItPassed) {
       base, fits, {}, [](int i) { return i == 1 ? Ids{"actuator.force_scale"} : Ids{}; }, &aside);
   EXPECT_EQ(d.verdict, "found");
   EXPECT_EQ(d.named, std::vector<int>({2}));
+  EXPECT_EQ(d.remainder_of, 1);
   EXPECT_EQ(aside, std::vector<int>({1}));
   // Without the reduction the force scale alone, the wrong name, would win.
   std::vector<FitScore> without = fits;
