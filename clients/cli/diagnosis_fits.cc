@@ -233,6 +233,21 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
   return errors.empty() ? NAN : sum / errors.size();
 }
 
+std::vector<std::string> VariantEvals(const Candidate& c, const std::vector<std::string>& files,
+                                      const v1::DiagnosisSpec& d, const std::string& out_dir,
+                                      const std::string& stem) {
+  const auto& variants = NumericVariants();
+  std::vector<std::string> evals(variants.size() - 1);
+  TwoAtATime(evals.size(), [&](size_t i) {
+    const std::string dir = out_dir + "/" + stem + "-variant-" + std::to_string(i + 1);
+    if (std::isfinite(HeldOutError(c, files, d, dir, variants[i + 1])))
+      evals[i] = dir + "/eval.json";
+  });
+  for (const auto& e : evals)
+    if (e.empty()) return {};
+  return evals;
+}
+
 // weighting: floor. The spread (sd) of the uncalibrated model's error on each training file
 // over the numeric variants, and weights 1 / sd^2 (sd at least a tenth of the median, so a
 // file the variants agree on cannot take all the weight), scaled to a mean of 1. Empty when

@@ -56,6 +56,13 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
                     const v1::DiagnosisSpec& d, const std::string& out_dir,
                     const std::string& extra_set = "");
 
+// c's fit on files under each numeric variant but the first (which out_dir/stem holds),
+// written to out_dir/stem-variant-K: the eval.json paths, or empty when any variant fails
+// (then no spread is claimed).
+std::vector<std::string> VariantEvals(const Candidate& c, const std::vector<std::string>& files,
+                                      const v1::DiagnosisSpec& d, const std::string& out_dir,
+                                      const std::string& stem);
+
 // weighting: floor: each training file's weight 1 / sd^2 of the uncalibrated model's error
 // over the variants (floors: the sds). Empty when an evaluation fails.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,

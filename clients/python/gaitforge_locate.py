@@ -36,15 +36,31 @@ Input: the JSON of
     velocity  the sign of the recorded x velocity of each marker (central difference):
               (central difference over +-2 samples): forward (v > 0) or backward (v <= 0);
               the same numbers as contact for each.
-  findings    sentences for the effects larger than 3 x noise_m (drifts over the whole
-              recording, RMS excesses, phase peaks, and where the drift accrues); a summary.
+  numeric_spread  (with --variants: the same fit evaluated under numerically irrelevant
+              variants, timestep and contact softness) per recording: the simulated travel
+              per cycle under each variant (the first is the main eval), their mean and sd,
+              how many sds the recorded travel lies off (recorded_sds), and
+              per axis the RMS of the detrended difference between each variant's residual
+              and the main one (shape_per_variant_m) and the largest (shape_m): the model's
+              own spread. The canonical caterpillar hops, so such variants move its travel by
+              tens of percent (../shared/robots/caterpillar.md): a drift is a mismatch only
+              when the recorded travel lies more than 3 sds (+ the drift threshold per cycle)
+              from the variants' mean travel, a shape excess only beyond
+              sqrt(noise^2 + shape_m^2).
+  findings    sentences for the effects larger than 3 x noise_m and beyond the numeric spread
+              (drifts over the whole recording, RMS excesses, phase peaks, and where the drift
+              accrues), and for those within the spread only; a summary; beyond_spread: any
+              mismatch beyond noise and spread.
 
-Output: --out FILE.json {"noise_m", "noise_sd_diff_m", "slices": {"recordings": [...],
-"pooled": {...}}, "findings": [...], "summary": "..."}; --figure FILE.svg: per recording the
-x and z residuals against time (one panel each) and their RMS by gait phase.
+Output: --out FILE.json {"noise_m", "noise_sd_diff_m", "variants", "beyond_spread",
+"beyond_recordings" (the files with a finding beyond noise and spread), "slices":
+{"recordings": [...], "pooled": {...}}, "findings": [...], "summary": "..."}; --figure
+FILE.svg: per recording the x and z residuals against time (one panel each; the variants'
+centroid x residuals in grey) and their RMS by gait phase.
 
 Usage:
     gaitforge_locate.py --eval EVAL.json --out LOCATE.json [--figure LOCATE.svg]
+                        [--variants EVAL_V1.json,EVAL_V2.json,...]
 Run under /usr/bin/python3 (numpy, matplotlib).
 """
 import argparse
@@ -60,6 +76,7 @@ SETTLE_CYCLES = 2
 PHASE_BINS = 10
 CONTACT_BAND_M = 1.5e-3
 SIGNIFICANT = 3.0  # findings need an effect larger than this many noise_m
+SPREAD_SDS = 3.0  # ... and a travel this many sds of the numeric variants' travel away
 STATE_TEXT = {"ground": "on the ground", "airborne": "airborne", "forward": "moving forward",
               "backward": "moving backward or still"}
 
@@ -294,6 +311,44 @@ class Recording:
         return out
 
 
+def spread_of(rec, variants):
+    """The model's own numeric spread on one recording: rec (the main eval) beside the same
+    fit under each numerically irrelevant variant (Recordings of the same file)."""
+    def travel(r):
+        return slope(r.ts, np.mean([r.sim[c] for c in r.xs], axis=0)) * r.period \
+            if r.xs else float("nan")
+
+    shape = {}
+    for axis, chans in (("x", rec.xs), ("z", rec.zs)):
+        per = []
+        for v in variants:
+            _, i, j = np.intersect1d(rec.t, v.t, return_indices=True)
+            both = [c for c in chans if c in v.detrended]
+            if len(i) >= 10 and both:
+                per.append(rms(np.concatenate([rec.detrended[c][i] - v.detrended[c][j]
+                                               for c in both])))
+        shape[axis] = float(np.max(per)) if per else float("nan")
+        shape[axis + "_all"] = per
+    sims = np.array([travel(r) for r in [rec] + variants])
+    ok = sims[np.isfinite(sims)]
+    mean = float(ok.mean()) if ok.size else float("nan")
+    sd = float(ok.std(ddof=1)) if ok.size > 1 else float("nan")
+    rec_travel = slope(rec.ts, np.mean([rec.rec[c] for c in rec.xs], axis=0)) * rec.period \
+        if rec.xs else float("nan")
+    return {"variants": len(sims), "simulated_m_per_cycle": [float(v) for v in sims],
+            "simulated_mean_m_per_cycle": mean, "simulated_sd_m_per_cycle": sd,
+            "recorded_sds": (rec_travel - mean) / sd if sd > 0 else float("nan"),
+            "x_shape_m": shape["x"], "z_shape_m": shape["z"],
+            "x_shape_per_variant_m": shape["x_all"], "z_shape_per_variant_m": shape["z_all"]}
+
+
+def shape_floor(s, axis, noise):
+    """The floor a shape excess must clear: the noise, and the model's numeric spread."""
+    sp = s.get("numeric_spread")
+    v = sp.get(f"{axis}_shape_m") if sp else None
+    return math.hypot(noise, v) if v is not None and np.isfinite(v) else noise
+
+
 def travel_text(tv):
     """Recorded against simulated travel, and the missing share when the model moves forward."""
     if not tv:
@@ -313,23 +368,44 @@ def travel_text(tv):
 
 
 def findings_for(s, noise):
-    """Sentences for the effects of one recording's slices above SIGNIFICANT x noise, and the
-    size (in noise units) of the largest, for the summary."""
+    """Sentences for the effects of one recording's slices above SIGNIFICANT x noise and
+    beyond the model's numeric spread, the size (in noise units) of the largest, for the
+    summary, and those that stay within the spread (sentences, and their kinds)."""
     lim = SIGNIFICANT * noise
     name = os.path.basename(s["file"])
-    out, score = [], {}
+    out, score, within = [], {}, {}
     ax, tr = s["axis"], s["trend"]
-    z_ex = ax["z"]["rms_excess_m"]
-    z_text = (f"vertical motion matches within noise ({mm(z_ex)} RMS beyond the noise)"
+    sp = s.get("numeric_spread")
+    z_floor = shape_floor(s, "z", noise)
+    z_ex = excess(ax["z"]["rms_m"], z_floor)
+    floor_words = "noise" if z_floor == noise else "noise and the model's numeric spread"
+    z_text = (f"vertical motion matches within {floor_words} ({mm(z_ex)} RMS beyond it)"
               if z_ex <= lim else f"vertical motion differs too ({mm(ax['z']['rms_m'])} RMS)")
     drift = tr["x"]["mean_drift_m"]
-    if abs(drift) > lim:
+    # Within the spread: the recorded travel within SPREAD_SDS sds of the variants' mean
+    # (and the drift's own threshold, per cycle).
+    spread_text = ""
+    if sp and sp.get("simulated_sd_m_per_cycle") is not None:
+        m, sd = sp["simulated_mean_m_per_cycle"], sp["simulated_sd_m_per_cycle"]
+        rec = s.get("travel", {}).get("recorded_m_per_cycle", float("nan"))
+        calm = abs(rec - m) <= SPREAD_SDS * sd + lim / s["cycles"]
+        spread_text = (f"the model travels {mm(m)} +- {mm(sd)} per cycle under "
+                       f"{sp['variants']} numerically irrelevant variants, the recording "
+                       f"{mm(rec)}: {abs(rec - m) / sd if sd > 0 else float('inf'):.1f} sd off")
+    else:
+        calm = False
+    if abs(drift) > lim and calm:
+        within["drift"] = (f"{name}: the x residual drifts by {mm(tr['x']['mean_m_per_cycle'])} "
+                           f"per cycle, within the model's numeric spread ({spread_text})")
+    elif abs(drift) > lim:
         per = tr["x"]["per_marker"]
         n_same = sum(1 for p in per.values() if abs(p["drift_m"]) > lim
                      and np.sign(p["drift_m"]) == np.sign(drift))
         verb = "falls" if drift < 0 else "rises"
         tv = s.get("travel", {})
         what = travel_text(tv)
+        if spread_text:
+            what += f"; beyond the model's numeric spread: {spread_text}"
         who = f"all {len(per)}" if n_same == len(per) else f"{n_same} of {len(per)}"
         out.append(f"{name}: forward drift: the x residual of {who} markers "
                    f"{verb} by {mm(abs(tr['x']['mean_m_per_cycle']))} per cycle "
@@ -349,29 +425,50 @@ def findings_for(s, noise):
                                  f"the samples)" for st, d, sh in parts)
                 out.append(f"{name}: the x drift accrues {desc}")
     for axis, label in (("x", "horizontal"), ("z", "vertical")):
-        e = ax[axis]["detrended_rms_excess_m"]
-        if e > lim:
-            ph = s["phase"][f"{axis}_rms_m"]
-            k = int(np.nanargmax(ph))
-            med = float(np.nanmedian(ph))
-            where = ""
-            if ph[k] > 1.5 * med and excess(ph[k], noise) > lim:
-                where = (f", largest at gait phase {k / PHASE_BINS:.1f}-{(k + 1) / PHASE_BINS:.1f} "
-                         f"({mm(ph[k])} RMS against a median of {mm(med)})")
-            worst = max(ax[axis]["per_marker_detrended_rms_m"].items(), key=lambda kv: kv[1])
-            c = s["contact"]
-            where += (f"; {mm(c['ground'][axis + '_rms_m'])} RMS on the ground, "
-                      f"{mm(c['airborne'][axis + '_rms_m'])} airborne")
-            out.append(f"{name}: {label} shape: the {axis} residual beyond any drift is "
-                       f"{mm(ax[axis]['detrended_rms_m'])} RMS (most at {worst[0]}, "
-                       f"{mm(worst[1])}){where}")
-            score[f"{axis}_shape"] = e / noise
-    return out, score
+        floor = shape_floor(s, axis, noise)
+        rd = ax[axis]["detrended_rms_m"]
+        e = excess(rd, floor)
+        if e <= lim:
+            if excess(rd, noise) > lim:
+                within[f"{axis}_shape"] = (
+                    f"{name}: {label} shape: the {axis} residual beyond any drift is {mm(rd)} "
+                    f"RMS, within the noise and the model's numeric spread "
+                    f"(the variants differ from the model by up to "
+                    f"{mm(s['numeric_spread'][axis + '_shape_m'])} RMS)")
+            continue
+        ph = s["phase"][f"{axis}_rms_m"]
+        k = int(np.nanargmax(ph))
+        med = float(np.nanmedian(ph))
+        where = ""
+        if ph[k] > 1.5 * med and excess(ph[k], floor) > lim:
+            where = (f", largest at gait phase {k / PHASE_BINS:.1f}-{(k + 1) / PHASE_BINS:.1f} "
+                     f"({mm(ph[k])} RMS against a median of {mm(med)})")
+        worst = max(ax[axis]["per_marker_detrended_rms_m"].items(), key=lambda kv: kv[1])
+        c = s["contact"]
+        where += (f"; {mm(c['ground'][axis + '_rms_m'])} RMS on the ground, "
+                  f"{mm(c['airborne'][axis + '_rms_m'])} airborne")
+        if floor > noise:
+            where += (f"; beyond the model's numeric spread: its variants differ from it by "
+                      f"up to {mm(s['numeric_spread'][axis + '_shape_m'])} RMS")
+        out.append(f"{name}: {label} shape: the {axis} residual beyond any drift is "
+                   f"{mm(rd)} RMS (most at {worst[0]}, {mm(worst[1])}){where}")
+        score[f"{axis}_shape"] = e / noise
+    return out, score, within
 
 
-def summary_of(slices, scores, noise):
+def summary_of(slices, scores, noise, withins=()):
+    n = len(slices)
+    spread = [s["numeric_spread"]["variants"] for s in slices if s.get("numeric_spread")]
     if not any(scores):
-        return f"No systematic mismatch beyond noise (noise floor {mm(noise)})."
+        if not spread:
+            return f"No systematic mismatch beyond noise (noise floor {mm(noise)})."
+        text = ("No systematic mismatch beyond the noise and the model's own numeric spread "
+                f"({spread[0]} numerically irrelevant variants; noise floor {mm(noise)})")
+        drifts = [s for s, w in zip(slices, withins) if "drift" in w]
+        if drifts:
+            text += (f": the recorded travel lies within the range the model travels under them "
+                     f"in {len(drifts)} of {n} recordings where the x residual drifts")
+        return text + "."
     n = len(slices)
     drifted = [s for s, sc in zip(slices, scores) if "drift" in sc]
     parts = []
@@ -391,16 +488,40 @@ def summary_of(slices, scores, noise):
             parts.append(f"{label} differs in {len(k)} of {n} (up to {mm(worst)} RMS)")
     flat = [s for s, sc in zip(slices, scores) if "z_shape" not in sc]
     if drifted and len(flat) == n:
-        parts.append("the vertical motion matches within noise in all")
+        parts.append("the vertical motion matches within noise in all" if not spread else
+                     "the vertical motion matches within the noise and the spread in all")
+    calm = [s for s, sc, w in zip(slices, scores, withins) if "drift" in w]
+    if calm:
+        parts.append(f"within the model's numeric spread: the travel in {len(calm)} of {n}")
     lead = max(("drift", "x_shape", "z_shape"),
                key=lambda k: sum(sc.get(k, 0) for sc in scores))
     what = {"drift": "forward travel", "x_shape": "the horizontal shape of the stroke",
             "z_shape": "the vertical motion"}[lead]
-    return (f"The mismatch lives mainly in {what}: " + "; ".join(parts)
-            + f" (noise floor {mm(noise)}).")
+    floor = f"noise floor {mm(noise)}"
+    if spread:
+        floor += f"; beyond the model's spread under {spread[0]} numerically irrelevant variants"
+    return f"The mismatch lives mainly in {what}: " + "; ".join(parts) + f" ({floor})."
 
 
-def figure(recs, slices, path):
+def read_variants(arg, recs):
+    """Per recording of recs, its Recordings under the variant evals (comma-separated
+    paths); [] without any. Every variant must hold every recording, valid."""
+    paths = [p for p in arg.split(",") if p]
+    out = [[] for _ in recs]
+    for path in paths:
+        with open(path) as f:
+            ev = json.load(f)
+        base = os.path.dirname(os.path.abspath(path))
+        by_name = {os.path.basename(e.get("file", "")): e for e in ev.get("recordings", [])}
+        for i, r in enumerate(recs):
+            e = by_name.get(r.name)
+            if e is None or not e.get("valid") or not e.get("sim"):
+                raise ValueError(f"{path}: no valid simulation of {r.name}")
+            out[i].append(Recording(e, base))
+    return out if paths else []
+
+
+def figure(recs, slices, path, variants=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -419,6 +540,10 @@ def figure(recs, slices, path):
             ax.set_ylabel("mm", fontsize=8)
             ax.set_xlabel("simulated time (s)", fontsize=8)
             ax.tick_params(labelsize=7)
+        for k, v in enumerate(variants[row] if variants else []):
+            axes[row, 0].plot(v.ts, 1000 * np.mean([v.res[c] for c in v.xs], axis=0), lw=0.6,
+                              color="grey", alpha=0.7,
+                              label="variants (centroid)" if k == 0 else None)
         axes[row, 0].legend(fontsize=6, ncol=3)
         ax = axes[row, 2]
         centres = (np.arange(PHASE_BINS) + 0.5) / PHASE_BINS
@@ -440,6 +565,9 @@ def main():
     ap.add_argument("--eval", required=True, help="calibration-eval JSON (with --out-dir)")
     ap.add_argument("--out", required=True, help="the slices and findings, JSON")
     ap.add_argument("--figure", help="residuals against time and by phase, SVG")
+    ap.add_argument("--variants", default="",
+                    help="calibration-eval JSONs of the same fit under numerically irrelevant "
+                         "variants, comma-separated: the model's own spread")
     args = ap.parse_args()
     try:
         with open(args.eval) as f:
@@ -462,19 +590,31 @@ def main():
         print("gaitforge_locate: no valid recording with simulated markers (run calibration-eval "
               "with --out-dir)" + "".join(f"\n  {s}" for s in skipped), file=sys.stderr)
         return 2
+    try:
+        variants = read_variants(args.variants, recs)
+    except (OSError, ValueError, KeyError) as e:
+        print(f"gaitforge_locate: --variants: {e}", file=sys.stderr)
+        return 2
     per_channel = [v for r in recs for v in r.noise().values()]
     noise = float(np.median([p[0] for p in per_channel]))
     noise_plain = float(np.median([p[1] for p in per_channel]))
     slices = [r.slices(noise) for r in recs]
-    findings, scores = [], []
+    if variants:
+        for r, s, vs in zip(recs, slices, variants):
+            s["numeric_spread"] = spread_of(r, vs)
+    findings, scores, withins = [], [], []
     for s in slices:
-        f, sc = findings_for(s, noise)
+        f, sc, w = findings_for(s, noise)
         findings += f
         scores.append(sc)
-    summary = summary_of(slices, scores, noise)
-    if not findings:
-        findings = [f"no systematic mismatch beyond noise ({mm(noise)}): every drift and RMS "
-                    f"excess is below {SIGNIFICANT:g} x the noise floor"]
+        withins.append(w)
+    summary = summary_of(slices, scores, noise, withins)
+    findings += [text for w in withins for text in w.values()]
+    if not any(scores):
+        floor = "noise and the model's numeric spread" if variants else "noise"
+        findings.insert(0, f"no systematic mismatch beyond the {floor} ({mm(noise)}): every "
+                           f"drift and RMS excess is below {SIGNIFICANT:g} x the noise floor"
+                        + (" or within the variants' spread" if variants else ""))
     pooled = {
         "x_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.xs])),
         "z_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.zs])),
@@ -483,13 +623,16 @@ def main():
     }
     out = {"eval": args.eval, "noise_m": noise, "noise_sd_diff_m": noise_plain,
            "threshold_m": SIGNIFICANT * noise, "skipped": skipped,
+           "variants": 1 + len(variants[0]) if variants else 1,
+           "beyond_spread": any(bool(sc) for sc in scores),
+           "beyond_recordings": [r.name for r, sc in zip(recs, scores) if sc],
            "slices": {"recordings": slices, "pooled": pooled},
            "findings": findings, "summary": summary}
     with open(args.out, "w") as f:
         json.dump(clean(out), f, indent=1)
         f.write("\n")
     if args.figure:
-        figure(recs, slices, args.figure)
+        figure(recs, slices, args.figure, variants)
     try:
         print(summary)
         for line in findings:

@@ -1,0 +1,102 @@
+#!/usr/bin/python3
+"""The locating step against the model's own numeric spread (docs/diagnosis.md, step 3),
+on real simulations: gaitforge-sim calibration-eval of the shipped cases' training
+recordings under the six numeric variants, then clients/python/gaitforge_locate.py.
+
+  /usr/bin/python3 tests/diagnosis/locate_test.py --bin-dir build/bin
+
+A null (nothing concealed; the rig's numerics differ) must read as within the spread,
+though without the variants its drift reads as a mismatch; the paper's hose must read as
+beyond it, naming the recording that shows it; a variant eval that lacks a recording is
+refused, naming the file.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+LOCATE = os.path.join(ROOT, "clients", "python", "gaitforge_locate.py")
+VARIANTS = ["", "simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
+            "simulation.timestep_s=0.00125", "ground.contact_cfm=3e-6", "ground.contact_cfm=3e-5"]
+BIN = os.path.join(ROOT, "build", "bin")
+
+
+def evaluate(case, out, recordings=("train/gait-a.csv", "train/gait-b.csv")):
+    """calibration-eval of the case's recordings under each variant: the eval.json paths."""
+    files = ",".join(os.path.join(HERE, "cases", case, r) for r in recordings)
+    paths = []
+    for i, v in enumerate(VARIANTS):
+        d = os.path.join(out, f"{case}-v{i}")
+        os.makedirs(d, exist_ok=True)
+        # the shipped cases' time offset (make_cases.py): the baseline fits about this much
+        sets = "nuisance.time_offset_s=-0.02" + (f",{v}" if v else "")
+        r = subprocess.run([os.path.join(BIN, "gaitforge-sim"), "calibration-eval",
+                            "--recordings", files, "--set", sets, "--out-dir", d],
+                           capture_output=True, text=True, check=True)
+        with open(os.path.join(d, "eval.json"), "w") as f:
+            f.write(r.stdout)
+        paths.append(os.path.join(d, "eval.json"))
+    return paths
+
+
+def locate(evals, out, variants=True):
+    args = ["/usr/bin/python3", LOCATE, "--eval", evals[0], "--out", out]
+    if variants:
+        args += ["--variants", ",".join(evals[1:])]
+    r = subprocess.run(args, capture_output=True, text=True)
+    return r, (json.load(open(out)) if r.returncode == 0 else None)
+
+
+class LocateAgainstSpread(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="gf-locate-")
+        cls.null = evaluate("null-a", cls.tmp.name)
+        cls.hose = evaluate("tether-hose", cls.tmp.name)
+
+    def test_null_is_within_the_spread_though_its_drift_exceeds_the_noise(self):
+        r, plain = locate(self.null, os.path.join(self.tmp.name, "null-plain.json"), False)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(plain["beyond_spread"])  # noise alone: the chaos reads as a mismatch
+        r, got = locate(self.null, os.path.join(self.tmp.name, "null.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(got["beyond_spread"], got["summary"])
+        self.assertEqual(got["variants"], 6)
+        self.assertEqual(got["beyond_recordings"], [])
+        self.assertTrue(got["summary"].startswith("No systematic mismatch beyond the noise and "
+                                                  "the model's own numeric spread"), got["summary"])
+        for s in got["slices"]["recordings"]:
+            sp = s["numeric_spread"]
+            self.assertEqual(len(sp["simulated_m_per_cycle"]), 6)
+            self.assertLess(abs(sp["recorded_sds"]), 3, s["file"])
+            self.assertGreater(sp["simulated_sd_m_per_cycle"], 0)
+
+    def test_the_hose_is_beyond_the_spread_where_the_gait_is_regular(self):
+        r, got = locate(self.hose, os.path.join(self.tmp.name, "hose.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(got["beyond_spread"], got["summary"])
+        self.assertIn("gait-b.csv", got["beyond_recordings"])
+        self.assertTrue(got["summary"].startswith("The mismatch lives mainly in forward travel"),
+                        got["summary"])
+        b = [s for s in got["slices"]["recordings"] if s["file"].endswith("gait-b.csv")][0]
+        self.assertLess(b["numeric_spread"]["recorded_sds"], -3)  # it travels less, far less
+
+    def test_a_variant_without_the_recording_is_refused_naming_it(self):
+        held = evaluate("null-a", os.path.join(self.tmp.name, "held"), ("held_out/gait-c.csv",))
+        r, _ = locate([self.null[0], held[1]], os.path.join(self.tmp.name, "bad.json"))
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--variants", r.stderr)
+        self.assertIn("gait-a.csv", r.stderr)
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bin-dir", default=BIN)
+    a, rest = ap.parse_known_args()
+    BIN = os.path.abspath(a.bin_dir)
+    unittest.main(argv=[sys.argv[0]] + rest)
