@@ -423,12 +423,17 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       where_held.fields().count("beyond_spread") &&
       !where_held.fields().at("beyond_spread").bool_value();
   if (unexplained && held_blind) {
+    // The recording's own name: downloaded copies are named HASH16-NAME.
+    auto own_name = [](const std::string& path) {
+      const std::string f = std::filesystem::path(path).filename();
+      return f.size() > 17 && f[16] == '-' ? f.substr(17) : f;
+    };
     std::vector<std::string> showing;
     if (where.fields().count("beyond_recordings"))
       for (const auto& v : where.fields().at("beyond_recordings").list_value().values())
-        showing.push_back(v.string_value());
+        showing.push_back(own_name(v.string_value()));
     std::vector<std::string> held_names;
-    for (const auto& f : held_files) held_names.push_back(std::filesystem::path(f).filename());
+    for (const auto& f : held_files) held_names.push_back(own_name(f));
     experiment = "The held-out recordings (" + absl::StrJoin(held_names, ", ") +
                  ") match the baseline within the noise and its numeric spread, so they cannot "
                  "confirm a cause the training recordings show; hold out a recording of a gait "
@@ -524,6 +529,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     // Where it showed, in the locate script's words (its summary), then the files.
     if (where_ok && where.fields().count("summary"))
       std::cout << "  where it showed: " << where.fields().at("summary").string_value() << "\n";
+    if (verdict != "none" && where_ok && where.fields().count("beyond_spread") && !beyond)
+      std::cout << "  (no slice of the training residuals stands out beyond the model's numeric "
+                   "spread on its own: the named effect shows in the calibration error, which "
+                   "compares whole cycles)\n";
     std::cout << "  where the mismatch lives, by slice: " << dir
               << "/located.json and located.svg\n";
     if (std::find(figures.begin(), figures.end(), dir + "/diagnosis.svg") != figures.end())

@@ -464,10 +464,13 @@ def summary_of(slices, scores, noise, withins=()):
             return f"No systematic mismatch beyond noise (noise floor {mm(noise)})."
         text = ("No systematic mismatch beyond the noise and the model's own numeric spread "
                 f"({spread[0]} numerically irrelevant variants; noise floor {mm(noise)})")
-        drifts = [s for s, w in zip(slices, withins) if "drift" in w]
-        if drifts:
-            text += (f": the recorded travel lies within the range the model travels under them "
-                     f"in {len(drifts)} of {n} recordings where the x residual drifts")
+        sds = [(abs(s["numeric_spread"]["recorded_sds"]), s["numeric_spread"]["recorded_sds"],
+                os.path.basename(s["file"])) for s in slices if s.get("numeric_spread")
+               and s["numeric_spread"].get("recorded_sds") is not None]
+        if sds:
+            _, worst, name = max(sds)
+            text += (f": the recorded travel per cycle lies within {SPREAD_SDS:g} sd of the "
+                     f"variants' in every recording (the farthest: {name}, {worst:+.1f} sd)")
         return text + "."
     n = len(slices)
     drifted = [s for s, sc in zip(slices, scores) if "drift" in sc]
