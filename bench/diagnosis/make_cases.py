@@ -96,6 +96,18 @@ CASES = [
     ("heavy", "mass.offset", {"scale.mass": 1.3}, 121),
     ("soft-links", "stiffness.scale", {"scale.link_stiffness": 0.6}, 122),
     ("null-c", "none", {}, 109),
+    # Session 10: a second magnitude of every effect that had one only. (No transport
+    # delay: on these periodic gaits a delay of the command is a shift of the whole motion
+    # once settled, which the fitted time offset takes; generated at 20 and 50 ms, gaits B
+    # and C travelled within 0.02 mm per cycle of the null. docs/effects.md.)
+    ("lag-strong", "actuator.lag", {"effect.actuator_lag_s": 0.08}, 125),
+    ("weak-mild", "actuator.force_scale", {"actuators.force_n": 7.9}, 126),
+    ("slip-back-mild", "friction.anisotropic",
+     {"effect.friction_forward": 1.5, "effect.friction_backward": 1.0}, 127),
+    ("softening-strong", "spring.softening", {"effect.spring_softening": 400.0}, 128),
+    ("heavy-light", "mass.offset", {"scale.mass": 1.15}, 129),
+    ("soft-links-mild", "stiffness.scale", {"scale.link_stiffness": 0.8}, 130),
+    ("soft-ground-strong", "contact.softness", {"ground.contact_cfm": 3e-3}, 131),
 ]
 
 NOISE_SD_M = 3e-4
