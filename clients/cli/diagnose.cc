@@ -412,7 +412,12 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   // whatever is missing, no candidate explains it in a way the held-out data confirm.
   google::protobuf::Struct where;
   const bool where_ok = google::protobuf::util::JsonStringToMessage(located, &where).ok();
-  const bool beyond = where_ok && where.fields().count("beyond_spread") &&
+  // Known only when located against the variants (a bool; null against the noise alone).
+  auto spread_known = [](const google::protobuf::Struct& w) {
+    return w.fields().count("beyond_spread") &&
+           w.fields().at("beyond_spread").kind_case() == google::protobuf::Value::kBoolValue;
+  };
+  const bool beyond = where_ok && spread_known(where) &&
                       where.fields().at("beyond_spread").bool_value();
   const bool unexplained = verdict == "none" && beyond;
   // ... and when the held-out recordings show nothing beyond that spread, they cannot confirm
@@ -420,8 +425,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   google::protobuf::Struct where_held;
   const bool held_blind =
       google::protobuf::util::JsonStringToMessage(located_held, &where_held).ok() &&
-      where_held.fields().count("beyond_spread") &&
-      !where_held.fields().at("beyond_spread").bool_value();
+      spread_known(where_held) && !where_held.fields().at("beyond_spread").bool_value();
   if (unexplained && held_blind) {
     // The recording's own name: downloaded copies are named HASH16-NAME.
     auto own_name = [](const std::string& path) {
@@ -483,7 +487,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                      "model's structure"
                   << (shown ? " (closest held out: " + shown->label + ")" : std::string()) << "\n";
       if (!experiment.empty()) std::cout << "  " << experiment << "\n";
-      else if (where_ok && where.fields().count("beyond_spread"))
+      else if (where_ok && spread_known(where))
         std::cout << "  the calibrated model matches the training recordings within the noise "
                      "and its own numeric spread\n";
     } else {
@@ -529,7 +533,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     // Where it showed, in the locate script's words (its summary), then the files.
     if (where_ok && where.fields().count("summary"))
       std::cout << "  where it showed: " << where.fields().at("summary").string_value() << "\n";
-    if (verdict != "none" && where_ok && where.fields().count("beyond_spread") && !beyond)
+    if (verdict != "none" && where_ok && spread_known(where) && !beyond)
       std::cout << "  (no slice of the training residuals stands out beyond the model's numeric "
                    "spread on its own: the named effect shows in the calibration error, which "
                    "compares whole cycles)\n";

@@ -53,7 +53,8 @@ Input: the JSON of
               mismatch beyond noise and spread.
 
 Output: --out FILE.json {"noise_m", "noise_sd_diff_m", "variants", "beyond_spread",
-"beyond_recordings" (the files with a finding beyond noise and spread), "slices":
+"beyond_recordings" (the files with a finding beyond noise and spread; both null without
+--variants), "slices":
 {"recordings": [...], "pooled": {...}}, "findings": [...], "summary": "..."}; --figure
 FILE.svg: per recording the x and z residuals against time (one panel each; the variants'
 centroid x residuals in grey) and their RMS by gait phase.
@@ -385,7 +386,7 @@ def findings_for(s, noise):
     # Within the spread: the recorded travel within SPREAD_SDS sds of the variants' mean
     # (and the drift's own threshold, per cycle).
     spread_text = ""
-    if sp and sp.get("simulated_sd_m_per_cycle") is not None:
+    if sp and np.isfinite(sp.get("simulated_sd_m_per_cycle", float("nan"))):
         m, sd = sp["simulated_mean_m_per_cycle"], sp["simulated_sd_m_per_cycle"]
         rec = s.get("travel", {}).get("recorded_m_per_cycle", float("nan"))
         calm = abs(rec - m) <= SPREAD_SDS * sd + lim / s["cycles"]
@@ -466,13 +467,12 @@ def summary_of(slices, scores, noise, withins=()):
                 f"({spread[0]} numerically irrelevant variants; noise floor {mm(noise)})")
         sds = [(abs(s["numeric_spread"]["recorded_sds"]), s["numeric_spread"]["recorded_sds"],
                 os.path.basename(s["file"])) for s in slices if s.get("numeric_spread")
-               and s["numeric_spread"].get("recorded_sds") is not None]
+               and np.isfinite(s["numeric_spread"]["recorded_sds"])]
         if sds:
             _, worst, name = max(sds)
             text += (f": the recorded travel per cycle lies within {SPREAD_SDS:g} sd of the "
                      f"variants' in every recording (the farthest: {name}, {worst:+.1f} sd)")
         return text + "."
-    n = len(slices)
     drifted = [s for s, sc in zip(slices, scores) if "drift" in sc]
     parts = []
     if drifted:
@@ -627,8 +627,9 @@ def main():
     out = {"eval": args.eval, "noise_m": noise, "noise_sd_diff_m": noise_plain,
            "threshold_m": SIGNIFICANT * noise, "skipped": skipped,
            "variants": 1 + len(variants[0]) if variants else 1,
-           "beyond_spread": any(bool(sc) for sc in scores),
-           "beyond_recordings": [r.name for r, sc in zip(recs, scores) if sc],
+           # null without --variants: beyond the noise is not beyond the model's spread
+           "beyond_spread": any(bool(sc) for sc in scores) if variants else None,
+           "beyond_recordings": [r.name for r, sc in zip(recs, scores) if sc] if variants else None,
            "slices": {"recordings": slices, "pooled": pooled},
            "findings": findings, "summary": summary}
     with open(args.out, "w") as f:
