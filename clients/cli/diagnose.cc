@@ -408,44 +408,13 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                     ", \"other\": ", Quote(named.empty() ? "closest rejected: " + shown->label
                                                           : shown->label));
   absl::StrAppend(&overlay, "}");
-  // "none", yet the baseline misses beyond the noise and its own numeric spread (locate):
-  // whatever is missing, no candidate explains it in a way the held-out data confirm.
-  google::protobuf::Struct where;
-  const bool where_ok = google::protobuf::util::JsonStringToMessage(located, &where).ok();
-  // Known only when located against the variants (a bool; null against the noise alone).
-  auto spread_known = [](const google::protobuf::Struct& w) {
-    return w.fields().count("beyond_spread") &&
-           w.fields().at("beyond_spread").kind_case() == google::protobuf::Value::kBoolValue;
-  };
-  const bool beyond = where_ok && spread_known(where) &&
-                      where.fields().at("beyond_spread").bool_value();
-  const bool unexplained = verdict == "none" && beyond;
-  // ... and when the held-out recordings show nothing beyond that spread, they cannot confirm
-  // any cause: say so, and which training recordings show it (hold out one like them).
-  google::protobuf::Struct where_held;
-  const bool held_blind =
-      google::protobuf::util::JsonStringToMessage(located_held, &where_held).ok() &&
-      spread_known(where_held) && !where_held.fields().at("beyond_spread").bool_value();
-  if (unexplained && held_blind) {
-    // The recording's own name: downloaded copies are named HASH16-NAME.
-    auto own_name = [](const std::string& path) {
-      const std::string f = std::filesystem::path(path).filename();
-      return f.size() > 17 && f[16] == '-' ? f.substr(17) : f;
-    };
-    std::vector<std::string> showing;
-    if (where.fields().count("beyond_recordings"))
-      for (const auto& v : where.fields().at("beyond_recordings").list_value().values())
-        showing.push_back(own_name(v.string_value()));
-    std::vector<std::string> held_names;
-    for (const auto& f : held_files) held_names.push_back(own_name(f));
-    experiment = "The held-out recordings (" + absl::StrJoin(held_names, ", ") +
-                 ") match the baseline within the noise and its numeric spread, so they cannot "
-                 "confirm a cause the training recordings show; hold out a recording of a gait "
-                 "where the mismatch shows (as " + absl::StrJoin(showing, ", ") +
-                 " does), or a longer one.";
-  }
+  // The located readings against the model's own spread; for "none", what they mean.
+  const SpreadReading spread = ReadSpread(located, located_held);
+  const NoneReading none =
+      verdict == "none" ? ReadNone(spread, held_files, shown ? shown->label : "") : NoneReading{};
+  if (!none.experiment.empty()) experiment = none.experiment;
   absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"reused_fits\": ", reused,
-                  ", \"unexplained_mismatch\": ", unexplained ? "true" : "false",
+                  ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"located\": ", located, ", \"located_held_out\": ", located_held,
                   ", \"experiment\": ", Quote(experiment), ", \"corrected_model\": ",
                   Quote(corrected), ", \"compared_samples\": ", n, ", \"rule\": {\"margin\": ",
@@ -479,17 +448,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                                    1000 * base.held, 1000 * floor_sd)
                 << ") by " << static_cast<int>(rule.held_out_gain * 100)
                 << "% with a paired t above " << rule.paired_t << " across the variants\n";
-      if (unexplained)
-        std::cout << "  yet the calibrated model still misses the training recordings beyond the "
-                     "noise and its own numeric spread (where it showed, below): what is missing "
-                     "is not a catalog effect the held-out recordings confirm (docs/effects.md); "
-                     "it may be physics the catalog does not hold, or a difference in the "
-                     "model's structure"
-                  << (shown ? " (closest held out: " + shown->label + ")" : std::string()) << "\n";
+      if (!none.words.empty()) std::cout << "  " << none.words << "\n";
       if (!experiment.empty()) std::cout << "  " << experiment << "\n";
-      else if (where_ok && spread_known(where))
-        std::cout << "  the calibrated model matches the training recordings within the noise "
-                     "and its own numeric spread\n";
     } else {
       std::cout << (verdict == "found" ? "found " : "ambiguous between ");
       for (size_t i = 0; i < named.size(); ++i) std::cout << (i ? " and " : "") << named[i]->label;
@@ -531,9 +491,11 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       std::cout << "  corrected model: " << corrected << "\n";
     }
     // Where it showed, in the locate script's words (its summary), then the files.
-    if (where_ok && where.fields().count("summary"))
+    google::protobuf::Struct where;
+    if (google::protobuf::util::JsonStringToMessage(located, &where).ok() &&
+        where.fields().count("summary"))
       std::cout << "  where it showed: " << where.fields().at("summary").string_value() << "\n";
-    if (verdict != "none" && where_ok && spread_known(where) && !beyond)
+    if (verdict != "none" && spread.train_known && !spread.train_beyond)
       std::cout << "  (no slice of the training residuals stands out beyond the model's numeric "
                    "spread on its own: the named effect shows in the calibration error, which "
                    "compares whole cycles)\n";

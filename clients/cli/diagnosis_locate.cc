@@ -1,6 +1,7 @@
 // Locating the mismatch: see diagnosis_locate.h.
 #include "clients/cli/diagnosis_locate.h"
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -9,6 +10,8 @@
 #include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "google/protobuf/struct.pb.h"
+#include "google/protobuf/util/json_util.h"
 
 namespace gaitforge::cli::diagnosis {
 namespace {
@@ -50,6 +53,75 @@ std::string Locate(const Candidate& c, const std::vector<std::string>& files,
     return "{}";
   }
   return ReadAll(dir + "/" + out_json);
+}
+
+std::string OwnName(const std::string& path) {
+  const std::string f = std::filesystem::path(path).filename();
+  bool hashed = f.size() > 17 && f[16] == '-';
+  for (size_t i = 0; hashed && i < 16; ++i) hashed = std::isxdigit(static_cast<unsigned char>(f[i]));
+  return hashed ? f.substr(17) : f;
+}
+
+SpreadReading ReadSpread(const std::string& located, const std::string& located_held) {
+  SpreadReading r;
+  auto read = [](const std::string& json, bool* known, bool* beyond,
+                 std::vector<std::string>* showing) {
+    google::protobuf::Struct w;
+    if (!google::protobuf::util::JsonStringToMessage(json, &w).ok()) return;
+    auto it = w.fields().find("beyond_spread");
+    if (it == w.fields().end() || it->second.kind_case() != google::protobuf::Value::kBoolValue)
+      return;
+    *known = true;
+    *beyond = it->second.bool_value();
+    auto names = w.fields().find("beyond_recordings");
+    if (names != w.fields().end())
+      for (const auto& v : names->second.list_value().values())
+        showing->push_back(OwnName(v.string_value()));
+  };
+  read(located, &r.train_known, &r.train_beyond, &r.train_showing);
+  read(located_held, &r.held_known, &r.held_beyond, &r.held_showing);
+  return r;
+}
+
+NoneReading ReadNone(const SpreadReading& r, const std::vector<std::string>& held_files,
+                     const std::string& closest) {
+  NoneReading n;
+  if (!r.train_known) return n;
+  const std::string spread = "the noise and its own numeric spread";
+  const std::string lacking =
+      ": what is missing is not a catalog effect the held-out recordings confirm "
+      "(docs/effects.md); it may be physics the catalog does not hold, or a difference in the "
+      "model's structure" +
+      (closest.empty() ? std::string() : " (closest held out: " + closest + ")");
+  std::vector<std::string> held_names;
+  for (const auto& f : held_files) held_names.push_back(OwnName(f));
+  const std::string held = absl::StrJoin(held_names, ", ");
+  if (r.train_beyond) {
+    n.unexplained = true;
+    const bool both = r.held_known && r.held_beyond;
+    n.words = "yet the calibrated model still misses the training " +
+              std::string(both ? "and held-out " : "") + "recordings beyond " + spread +
+              " (where it showed, below)" + lacking;
+    if (r.held_known && !r.held_beyond)
+      n.experiment = "The held-out recordings (" + held +
+                     ") match the baseline within the noise and its numeric spread, so they "
+                     "cannot confirm a cause the training recordings show; hold out a recording "
+                     "of a gait where the mismatch shows (as " +
+                     absl::StrJoin(r.train_showing, ", ") + " does), or a longer one.";
+  } else if (r.held_known && r.held_beyond) {
+    n.unexplained = true;
+    n.words = "the calibrated model matches the training recordings within " + spread +
+              " but misses the held-out recordings beyond it" + lacking;
+    n.experiment = "The training recordings match the baseline within the noise and its "
+                   "numeric spread while the held-out ones (" +
+                   absl::StrJoin(r.held_showing, ", ") +
+                   ") do not: the training gaits do not excite what is missing; train on a gait "
+                   "like the held-out one, or swap a training and a held-out recording.";
+  } else {
+    n.words = "the calibrated model matches the training " +
+              std::string(r.held_known ? "and held-out " : "") + "recordings within " + spread;
+  }
+  return n;
 }
 
 }  // namespace gaitforge::cli::diagnosis

@@ -18,4 +18,30 @@ std::string Locate(const Candidate& c, const std::vector<std::string>& files,
                    const v1::DiagnosisSpec& d, const std::string& dir, const std::string& stem,
                    const std::string& out_json, const std::string& figure);
 
+// What the located JSONs of the training and the held-out recordings say: whether the
+// baseline misses each set beyond the noise and its numeric spread (known only when located
+// against the variants), and which recordings show it (their own names, not the downloaded
+// HASH16-NAME copies).
+struct SpreadReading {
+  bool train_known = false, train_beyond = false;
+  bool held_known = false, held_beyond = false;
+  std::vector<std::string> train_showing, held_showing;
+};
+SpreadReading ReadSpread(const std::string& located, const std::string& located_held);
+
+// A "none" verdict read against the spread: unexplained when a set shows a mismatch beyond
+// it that no catalog effect explained; words saying which of the readings holds ("" when
+// the training reading is unknown); experiment: the recording to add when one set cannot
+// speak (held-out recordings within the spread cannot confirm; training recordings within
+// it do not excite what the held-out ones show), else "".
+struct NoneReading {
+  bool unexplained = false;
+  std::string words, experiment;
+};
+NoneReading ReadNone(const SpreadReading& r, const std::vector<std::string>& held_files,
+                     const std::string& closest);
+
+// A recording's own name: the file name without the HASH16- prefix of a downloaded copy.
+std::string OwnName(const std::string& path);
+
 }  // namespace gaitforge::cli::diagnosis

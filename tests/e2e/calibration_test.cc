@@ -261,6 +261,17 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   EXPECT_NEAR(std::stod(m[4]), (hi - lo) / 2.5, 1e-4);
   EXPECT_LT(std::stod(m[4]), 0.9);
   EXPECT_GT(JsonNumber(whole.out, R"("range_accepted":)"), 1) << whole.out;
+  // Where it showed, against the model's own spread: the hose's training recordings are
+  // beyond the six numeric variants' spread (gait B travels about 12 sd short), so the
+  // report located it, and a found verdict leaves nothing unexplained.
+  EXPECT_NE(whole.out.find(R"("unexplained_mismatch": false)"), std::string::npos) << whole.out;
+  const size_t located = whole.out.find(R"("located": {)");
+  const size_t held = whole.out.find(R"("located_held_out": {)");
+  ASSERT_NE(located, std::string::npos) << whole.out;
+  ASSERT_NE(held, std::string::npos) << whole.out;
+  const std::string training = whole.out.substr(located, held - located);
+  EXPECT_NE(training.find(R"("variants": 6)"), std::string::npos) << training;
+  EXPECT_NE(training.find(R"("beyond_spread": true)"), std::string::npos) << training;
   const std::string corrected = ReadFile(dir.File("whole/mini-diagnosis/corrected-model.yaml"));
   ASSERT_NE(corrected.find("effect.tether_force_n="), std::string::npos) << corrected;
   const std::string gaits = "seed: 5\npopulation: 12\ngenerations: 1\n";
