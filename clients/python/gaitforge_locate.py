@@ -68,6 +68,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 
 import numpy as np
@@ -105,6 +106,13 @@ def resolve(path, base):
         return path
     alt = os.path.join(base, path)
     return alt if os.path.exists(alt) else path
+
+
+def own_name(path):
+    """A recording's own file name: without the HASH16- prefix of a copy that `gaitforge
+    diagnose` downloaded from the coordinator."""
+    name = os.path.basename(path)
+    return name[17:] if re.fullmatch(r"[0-9a-f]{16}-.+", name) else name
 
 
 def robust_sd(v):
@@ -172,7 +180,7 @@ class Recording:
 
     def __init__(self, entry, base):
         self.file = resolve(entry["file"], base)
-        self.name = os.path.basename(self.file)
+        self.name = own_name(self.file)
         sim_path = resolve(entry["sim"], base)
         with open(self.file + ".json") as f:
             self.genes = json.load(f)["command"]["genes"]
@@ -373,7 +381,7 @@ def findings_for(s, noise):
     beyond the model's numeric spread, the size (in noise units) of the largest, for the
     summary, and those that stay within the spread (sentences, and their kinds)."""
     lim = SIGNIFICANT * noise
-    name = os.path.basename(s["file"])
+    name = own_name(s["file"])
     out, score, within = [], {}, {}
     ax, tr = s["axis"], s["trend"]
     sp = s.get("numeric_spread")
@@ -466,7 +474,7 @@ def summary_of(slices, scores, noise, withins=()):
         text = ("No systematic mismatch beyond the noise and the model's own numeric spread "
                 f"({spread[0]} numerically irrelevant variants; noise floor {mm(noise)})")
         sds = [(abs(s["numeric_spread"]["recorded_sds"]), s["numeric_spread"]["recorded_sds"],
-                os.path.basename(s["file"])) for s in slices if s.get("numeric_spread")
+                own_name(s["file"])) for s in slices if s.get("numeric_spread")
                and np.isfinite(s["numeric_spread"]["recorded_sds"])]
         if sds:
             _, worst, name = max(sds)
@@ -515,7 +523,7 @@ def read_variants(arg, recs):
         with open(path) as f:
             ev = json.load(f)
         base = os.path.dirname(os.path.abspath(path))
-        by_name = {os.path.basename(e.get("file", "")): e for e in ev.get("recordings", [])}
+        by_name = {own_name(e.get("file", "")): e for e in ev.get("recordings", [])}
         for i, r in enumerate(recs):
             e = by_name.get(r.name)
             if e is None or not e.get("valid") or not e.get("sim"):
