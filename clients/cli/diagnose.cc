@@ -3,7 +3,9 @@
 //   1. baseline: calibrate the base model (its uncertain parameters and the time offset;
 //      marker offsets are profiled out), every fit weighting the training recordings by
 //      their noise floors (weighting: floor, FloorWeights) or equally;
-//   2. locate: slice the baseline's residuals (clients/python/gaitforge_locate.py);
+//   2. locate: slice the baseline's residuals on the training and the held-out recordings
+//      against the model's own spread under the numeric variants (diagnosis_locate.h,
+//      clients/python/gaitforge_locate.py);
 //   3. screen every candidate effect (workers/effects) with a short fit, all at once;
 //   4. refit the leading candidates fully, and pairs of them;
 //   5. decide by BIC on the training error and by the held-out error over an ensemble of
@@ -13,7 +15,8 @@
 //      5%); of those that pass, the lowest held-out error is named; two effects within the
 //      margin of each other, or a rival the held-out data cannot reject that fits the
 //      training data better: "ambiguous", with an experiment that tells them apart; else
-//      "none" (clients/cli/diagnosis_decision.h).
+//      "none" (clients/cli/diagnosis_decision.h), read against the located spread: a match,
+//      or a mismatch nothing in the catalog explains, with the recording to add.
 #include <unistd.h>
 
 #include <algorithm>
