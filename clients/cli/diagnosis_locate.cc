@@ -58,7 +58,8 @@ std::string Locate(const Candidate& c, const std::vector<std::string>& files,
 std::string OwnName(const std::string& path) {
   const std::string f = std::filesystem::path(path).filename();
   bool hashed = f.size() > 17 && f[16] == '-';
-  for (size_t i = 0; hashed && i < 16; ++i) hashed = std::isxdigit(static_cast<unsigned char>(f[i]));
+  for (size_t i = 0; hashed && i < 16; ++i)
+    hashed = std::isxdigit(static_cast<unsigned char>(f[i])) != 0;
   return hashed ? f.substr(17) : f;
 }
 
@@ -107,7 +108,8 @@ NoneReading ReadNone(const SpreadReading& r, const std::vector<std::string>& hel
                      ") match the baseline within the noise and its numeric spread, so they "
                      "cannot confirm a cause the training recordings show; hold out a recording "
                      "of a gait where the mismatch shows (as " +
-                     absl::StrJoin(r.train_showing, ", ") + " does), or a longer one.";
+                     absl::StrJoin(r.train_showing, ", ") +
+                     (r.train_showing.size() > 1 ? " do" : " does") + "), or a longer one.";
   } else if (r.held_known && r.held_beyond) {
     n.unexplained = true;
     n.words = "the calibrated model matches the training recordings within " + spread +

@@ -51,6 +51,15 @@ TEST(ReadNone, TrainingBeyondHeldOutWithinCannotBeConfirmed) {
   EXPECT_NE(n.experiment.find("as gait-b.csv does"), std::string::npos) << n.experiment;
 }
 
+TEST(ReadNone, NamesEveryTrainingRecordingThatShowsIt) {
+  const NoneReading n =
+      ReadNone(ReadSpread(Located("true", R"(["gait-a.csv", "gait-b.csv"])"),
+                          Located("false", "[]")),
+               kHeld, "");
+  EXPECT_NE(n.experiment.find("as gait-a.csv, gait-b.csv do)"), std::string::npos)
+      << n.experiment;
+}
+
 TEST(ReadNone, BothBeyondIsUnexplainedWithNoRecordingToAdd) {
   const NoneReading n = ReadNone(
       ReadSpread(Located("true", R"(["gait-a.csv"])"), Located("true", R"(["gait-c.csv"])")),
