@@ -183,7 +183,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   }
   base.bic = bic(base);
   // The noise floor: the spread of the baseline's held-out error over the numeric variants.
-  ScoreHeldOut(base, held_files, d);
+  ScoreHeldOut(base, held_files, d, dir + "/baseline-held");  // kept: located below
   double floor_sd = 0;
   for (double e : base.held_variants) floor_sd += (e - base.held) * (e - base.held);
   floor_sd = std::sqrt(floor_sd / std::max<size_t>(1, base.held_variants.size() - 1));
@@ -191,9 +191,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   // 2. Locate, on the baseline's residuals: where the training recordings show the
   // mismatch, and whether the held-out ones show it at all (if not, they cannot confirm).
   const std::string located =
-      Locate(base, train_files, d, dir, "baseline-train", "located.json", "located.svg");
+      Locate(VariantErrors(base, train_files, d, dir + "/baseline-train"), dir, "baseline-train",
+             "located.json", "located.svg");
   const std::string located_held =
-      Locate(base, held_files, d, dir, "baseline-held", "located-held.json", "");
+      Locate(base.held_variants, dir, "baseline-held", "located-held.json", "");
 
   // 3. Screening: every candidate effect, a short fit each, all at once.
   std::vector<Candidate> screened;
@@ -402,7 +403,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     for (const auto& c : full)
       if (c.ok && std::isfinite(c.held) && (!shown || c.held < shown->held)) shown = &c;
   std::string overlay = "{\"baseline_eval\": ";
-  if (std::isfinite(HeldOutError(base, held_files, d, dir + "/baseline-held")))
+  if (std::isfinite(base.held_variants[0]))  // evaluated into baseline-held by ScoreHeldOut
     absl::StrAppend(&overlay, Quote(dir + "/baseline-held/eval.json"));
   else
     absl::StrAppend(&overlay, "null");

@@ -233,19 +233,18 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
   return errors.empty() ? NAN : sum / errors.size();
 }
 
-std::vector<std::string> VariantEvals(const Candidate& c, const std::vector<std::string>& files,
-                                      const v1::DiagnosisSpec& d, const std::string& out_dir,
-                                      const std::string& stem) {
+std::string VariantDir(const std::string& prefix, size_t i) {
+  return i == 0 ? prefix : prefix + "-variant-" + std::to_string(i);
+}
+
+std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::string>& files,
+                                  const v1::DiagnosisSpec& d, const std::string& prefix) {
   const auto& variants = NumericVariants();
-  std::vector<std::string> evals(variants.size() - 1);
-  TwoAtATime(evals.size(), [&](size_t i) {
-    const std::string dir = out_dir + "/" + stem + "-variant-" + std::to_string(i + 1);
-    if (std::isfinite(HeldOutError(c, files, d, dir, variants[i + 1])))
-      evals[i] = dir + "/eval.json";
+  std::vector<double> errors(variants.size(), NAN);
+  TwoAtATime(variants.size(), [&](size_t i) {
+    errors[i] = HeldOutError(c, files, d, prefix.empty() ? "" : VariantDir(prefix, i), variants[i]);
   });
-  for (const auto& e : evals)
-    if (e.empty()) return {};
-  return evals;
+  return errors;
 }
 
 // weighting: floor. The spread (sd) of the uncalibrated model's error on each training file
@@ -291,14 +290,12 @@ void TwoAtATime(size_t n, const std::function<void(size_t)>& run) {
 
 // Held-out error of c under every numeric variant, two at a time; c.held is their mean (NAN if
 // any variant fails: a fit that only works at one timestep is no fit).
-void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d) {
-  const auto& variants = NumericVariants();
-  c.held_variants.assign(variants.size(), NAN);
-  TwoAtATime(variants.size(),
-             [&](size_t i) { c.held_variants[i] = HeldOutError(c, files, d, "", variants[i]); });
+void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d,
+                  const std::string& prefix) {
+  c.held_variants = VariantErrors(c, files, d, prefix);
   double sum = 0;
   for (double e : c.held_variants) sum += e;
-  c.held = sum / variants.size();
+  c.held = sum / c.held_variants.size();
 }
 
 }  // namespace gaitforge::cli::diagnosis

@@ -56,12 +56,13 @@ double HeldOutError(const Candidate& c, const std::vector<std::string>& files,
                     const v1::DiagnosisSpec& d, const std::string& out_dir,
                     const std::string& extra_set = "");
 
-// c's fit on files under each numeric variant but the first (which out_dir/stem holds),
-// written to out_dir/stem-variant-K: the eval.json paths, or empty when any variant fails
-// (then no spread is claimed).
-std::vector<std::string> VariantEvals(const Candidate& c, const std::vector<std::string>& files,
-                                      const v1::DiagnosisSpec& d, const std::string& out_dir,
-                                      const std::string& stem);
+// Where variant i's evaluation under prefix is written: prefix itself for the first (the
+// model as fitted), prefix-variant-i for the others.
+std::string VariantDir(const std::string& prefix, size_t i);
+// c's mean error on files under every numeric variant, two at a time (NAN where one fails);
+// with a prefix, each evaluation (eval.json, simulated markers) goes to VariantDir(prefix, i).
+std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::string>& files,
+                                  const v1::DiagnosisSpec& d, const std::string& prefix = "");
 
 // weighting: floor: each training file's weight 1 / sd^2 of the uncalibrated model's error
 // over the variants (floors: the sds). Empty when an evaluation fails.
@@ -72,6 +73,8 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
 void TwoAtATime(size_t n, const std::function<void(size_t)>& run);
 
 // c's held-out error under every variant, and their mean (NAN if any variant fails).
-void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d);
+// With a prefix, the evaluations are kept (VariantErrors).
+void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d,
+                  const std::string& prefix = "");
 
 }  // namespace gaitforge::cli::diagnosis

@@ -2,6 +2,7 @@
 #include "clients/cli/diagnosis_locate.h"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -25,30 +26,37 @@ std::string ReadAll(const std::string& path) {
 
 }  // namespace
 
-std::string Locate(const Candidate& c, const std::vector<std::string>& files,
-                   const v1::DiagnosisSpec& d, const std::string& dir, const std::string& stem,
-                   const std::string& out_json, const std::string& figure) {
-  (void)HeldOutError(c, files, d, dir + "/" + stem);
+std::string Locate(const std::vector<double>& errors, const std::string& dir,
+                   const std::string& stem, const std::string& out_json,
+                   const std::string& figure) {
+  const std::string main = VariantDir(dir + "/" + stem, 0);
+  if (errors.empty() || !std::isfinite(errors[0])) {
+    std::cerr << "gaitforge: warning: the model as fitted failed on " << main
+              << "'s recordings; the report has no 'where it showed' for them\n";
+    return "{}";
+  }
   std::vector<std::string> argv = {
       "/usr/bin/python3",
       std::filesystem::path(PlotScriptPath()).parent_path().string() + "/gaitforge_locate.py",
-      "--eval", dir + "/" + stem + "/eval.json", "--out", dir + "/" + out_json};
+      "--eval", main + "/eval.json", "--out", dir + "/" + out_json};
   if (!figure.empty()) argv.insert(argv.end(), {"--figure", dir + "/" + figure});
   // The model's own spread on the same recordings: the fit under the other numeric
   // variants. A drift or shape the variants already disagree on is chaos, not a mismatch.
-  const std::vector<std::string> spread = VariantEvals(c, files, d, dir, stem);
+  std::vector<std::string> spread;
+  for (size_t i = 1; i < errors.size() && std::isfinite(errors[i]); ++i)
+    spread.push_back(VariantDir(dir + "/" + stem, i) + "/eval.json");
   std::string ignored;
-  if (!spread.empty()) {
+  if (spread.size() + 1 == errors.size() && spread.size() > 0) {
     std::vector<std::string> with = argv;
     with.insert(with.end(), {"--variants", absl::StrJoin(spread, ",")});
     if (RunCapture(with, &ignored) == 0) return ReadAll(dir + "/" + out_json);
-    // e.g. a variant's simulation invalid on one recording: locate against noise alone.
-    std::cerr << "gaitforge: warning: locating against the numeric variants failed on " << dir
-              << "/" << stem << "; locating against the noise alone\n";
+    std::cerr << "gaitforge: warning: locating against the numeric variants failed on " << main
+              << "; locating against the noise alone\n";
   }
+  // A variant failed (a fit that diverges at one timestep): locate against the noise alone.
   if (const int code = RunCapture(argv, &ignored); code != 0) {
     std::cerr << "gaitforge: warning: locating the mismatch failed (gaitforge_locate.py exit "
-              << code << " on " << dir << "/" << stem << "/eval.json); the report has no "
+              << code << " on " << main << "/eval.json); the report has no "
               << "'where it showed' for those recordings\n";
     return "{}";
   }

@@ -11,12 +11,14 @@
 
 namespace gaitforge::cli::diagnosis {
 
-// c's fit on files (written under dir/stem and dir/stem-variant-K) sliced by the locate
-// script into dir/out_json (and figure, when not empty). Returns the located JSON, or "{}"
-// with a warning on stderr: locating describes, it does not decide.
-std::string Locate(const Candidate& c, const std::vector<std::string>& files,
-                   const v1::DiagnosisSpec& d, const std::string& dir, const std::string& stem,
-                   const std::string& out_json, const std::string& figure);
+// The fit's evaluations on files under the numeric variants, already written to
+// VariantDir(dir + "/" + stem, i) with the errors given (diagnosis_fits.h, VariantErrors),
+// sliced by the locate script into dir/out_json (and figure, when not empty): against the
+// variants' spread when every variant ran, else against the noise alone. Returns the
+// located JSON, or "{}" with a warning on stderr: locating describes, it does not decide.
+std::string Locate(const std::vector<double>& errors, const std::string& dir,
+                   const std::string& stem, const std::string& out_json,
+                   const std::string& figure);
 
 // What the located JSONs of the training and the held-out recordings say: whether the
 // baseline misses each set beyond the noise and its numeric spread (known only when located

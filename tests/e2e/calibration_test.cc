@@ -272,6 +272,10 @@ TEST(Diagnose, AnInterruptedDiagnosisRunAgainReusesItsFitsAndEndsTheSame) {
   const std::string training = whole.out.substr(located, held - located);
   EXPECT_NE(training.find(R"("variants": 6)"), std::string::npos) << training;
   EXPECT_NE(training.find(R"("beyond_spread": true)"), std::string::npos) << training;
+  // The held-out recordings too, from the evaluations the noise floor made.
+  const std::string held_out =
+      whole.out.substr(held, whole.out.find(R"("experiment")", held) - held);
+  EXPECT_NE(held_out.find(R"("variants": 6)"), std::string::npos) << held_out;
   const std::string corrected = ReadFile(dir.File("whole/mini-diagnosis/corrected-model.yaml"));
   ASSERT_NE(corrected.find("effect.tether_force_n="), std::string::npos) << corrected;
   const std::string gaits = "seed: 5\npopulation: 12\ngenerations: 1\n";
