@@ -214,6 +214,9 @@ class Recording:
                     self.y_max = max(self.y_max, float(np.max(np.abs(src[f"{m}.y"]))))
         self.xs = [c for c in self.res if c.endswith(".x")]
         self.zs = [c for c in self.res if c.endswith(".z")]
+        if not self.res:
+            raise ValueError(f"{self.name}: no x or z marker channel in both the recording and "
+                             f"the simulation: nothing to locate")
         self.span = float(self.ts[-1] - self.ts[0])
         self.cycles = self.span / self.period
         self.trend = {c: slope(self.ts, self.res[c]) for c in self.res}
@@ -283,24 +286,27 @@ class Recording:
                             if chans and sel.any() else float("nan"))
             ph[f"{name}_rms_m"] = vals
         out["phase"] = ph
-        # contact and velocity: where the x drift accrues
+        # contact and velocity: where the x drift accrues. Contact needs a marker's x and z
+        # (its height says whether it is down), velocity its x; a recording without them
+        # has no such slice (null).
         contact = {s: {"share": [], "x": [], "z": [], "drift": []} for s in ("ground", "airborne")}
         vel = {s: {"share": [], "x": [], "drift": []} for s in ("forward", "backward")}
         for m in MARKERS:
             cx, cz = f"{m}.x", f"{m}.z"
-            if cx not in self.res or cz not in self.res:
+            if cx not in self.res:
                 continue
-            z = self.rec[cz]
-            ground = z <= np.percentile(z, 1) + CONTACT_BAND_M
             dres = np.concatenate([np.diff(self.res[cx]), [0.0]])
             # a step counts for the state at its start; steps across dropped rows still count
             # (the drift must add up), their state is that of the sample before the gap
-            for state, sel in (("ground", ground), ("airborne", ~ground)):
-                c = contact[state]
-                c["share"].append(sel.mean())
-                c["x"].append(self.detrended[cx][sel])
-                c["z"].append(self.detrended[cz][sel])
-                c["drift"].append(dres[sel].sum())
+            if cz in self.res:
+                z = self.rec[cz]
+                ground = z <= np.percentile(z, 1) + CONTACT_BAND_M
+                for state, sel in (("ground", ground), ("airborne", ~ground)):
+                    c = contact[state]
+                    c["share"].append(sel.mean())
+                    c["x"].append(self.detrended[cx][sel])
+                    c["z"].append(self.detrended[cz][sel])
+                    c["drift"].append(dres[sel].sum())
             v = velocity(self.t, self.rec[cx])
             for state, sel in (("forward", v > 0), ("backward", v <= 0)):
                 c = vel[state]
@@ -312,11 +318,11 @@ class Recording:
             **{s: {"share": float(np.mean(c["share"])),
                    "x_rms_m": rms(np.concatenate(c["x"])), "z_rms_m": rms(np.concatenate(c["z"])),
                    "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
-               for s, c in contact.items()}}
+               for s, c in contact.items()}} if contact["ground"]["share"] else None
         out["velocity"] = {
             **{s: {"share": float(np.mean(c["share"])), "x_rms_m": rms(np.concatenate(c["x"])),
                    "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
-               for s, c in vel.items()}}
+               for s, c in vel.items()}} if self.xs else None
         return out
 
 
@@ -388,8 +394,13 @@ def findings_for(s, noise):
     z_floor = shape_floor(s, "z", noise)
     z_ex = excess(ax["z"]["rms_m"], z_floor)
     floor_words = "noise" if z_floor == noise else "noise and the model's numeric spread"
-    z_text = (f"vertical motion matches within {floor_words} ({mm(z_ex)} RMS beyond it)"
-              if z_ex <= lim else f"vertical motion differs too ({mm(ax['z']['rms_m'])} RMS)")
+    if not np.isfinite(z_ex):
+        z_text = "the vertical motion is not recorded (no z channel)"
+    elif z_ex <= lim:
+        z_text = (f"vertical motion matches within {floor_words} ({mm(z_ex)} RMS beyond it, "
+                  f"under the {mm(lim)} threshold)")
+    else:
+        z_text = f"vertical motion differs too ({mm(ax['z']['rms_m'])} RMS)"
     drift = tr["x"]["mean_drift_m"]
     # Within the spread: the recorded travel within SPREAD_SDS sds of the variants' mean
     # (and the drift's own threshold, per cycle).
@@ -415,8 +426,13 @@ def findings_for(s, noise):
         what = travel_text(tv)
         if spread_text:
             what += f"; beyond the model's numeric spread: {spread_text}"
-        who = f"all {len(per)}" if n_same == len(per) else f"{n_same} of {len(per)}"
-        out.append(f"{name}: forward drift: the x residual of {who} markers "
+        if len(per) == 1:
+            who = "the one marker"
+        elif n_same == len(per):
+            who = f"all {len(per)} markers"
+        else:
+            who = f"{n_same} of {len(per)} markers"
+        out.append(f"{name}: forward drift: the x residual of {who} "
                    f"{verb} by {mm(abs(tr['x']['mean_m_per_cycle']))} per cycle "
                    f"({mm(abs(drift))} over {s['cycles']:.1f} cycles; {what}), while {z_text}")
         score["drift"] = abs(drift) / noise
@@ -427,6 +443,8 @@ def findings_for(s, noise):
             score["growth"] = abs(b - a) * s["cycles"] / 2 / noise
         for key, label in (("contact", ("ground", "airborne")),
                            ("velocity", ("forward", "backward"))):
+            if not s[key]:
+                continue
             parts = [(st, s[key][st]["x_drift_m_per_cycle"], s[key][st]["share"]) for st in label]
             big = [p for p in parts if abs(p[1]) * s["cycles"] > lim]
             if big:
@@ -437,6 +455,8 @@ def findings_for(s, noise):
         floor = shape_floor(s, axis, noise)
         rd = ax[axis]["detrended_rms_m"]
         e = excess(rd, floor)
+        if not np.isfinite(e):  # the axis is not recorded
+            continue
         if e <= lim:
             if excess(rd, noise) > lim:
                 within[f"{axis}_shape"] = (
@@ -454,8 +474,9 @@ def findings_for(s, noise):
                      f"({mm(ph[k])} RMS against a median of {mm(med)})")
         worst = max(ax[axis]["per_marker_detrended_rms_m"].items(), key=lambda kv: kv[1])
         c = s["contact"]
-        where += (f"; {mm(c['ground'][axis + '_rms_m'])} RMS on the ground, "
-                  f"{mm(c['airborne'][axis + '_rms_m'])} airborne")
+        if c:
+            where += (f"; {mm(c['ground'][axis + '_rms_m'])} RMS on the ground, "
+                      f"{mm(c['airborne'][axis + '_rms_m'])} airborne")
         if floor > noise:
             where += (f"; beyond the model's numeric spread: its variants differ from it by "
                       f"up to {mm(s['numeric_spread'][axis + '_shape_m'])} RMS")
@@ -466,6 +487,14 @@ def findings_for(s, noise):
 
 
 def summary_of(slices, scores, noise, withins=()):
+    """The summary sentence, and what the recordings could not show."""
+    no_x = [own_name(s["file"]) for s in slices if "travel" not in s]
+    unseen = (f" The forward travel is not compared in {', '.join(no_x)}: no x channel."
+              if no_x else "")
+    return summary_core(slices, scores, noise, withins) + unseen
+
+
+def summary_core(slices, scores, noise, withins):
     n = len(slices)
     spread = [s["numeric_spread"]["variants"] for s in slices if s.get("numeric_spread")]
     if not any(scores):
@@ -497,7 +526,8 @@ def summary_of(slices, scores, noise, withins=()):
         if k:
             worst = max(s["axis"][axis[0]]["detrended_rms_m"] for s in k)
             parts.append(f"{label} differs in {len(k)} of {n} (up to {mm(worst)} RMS)")
-    flat = [s for s, sc in zip(slices, scores) if "z_shape" not in sc]
+    flat = [s for s, sc in zip(slices, scores)
+            if "z_shape" not in sc and np.isfinite(s["axis"]["z"]["rms_m"])]
     if drifted and len(flat) == n:
         parts.append("the vertical motion matches within noise in all" if not spread else
                      "the vertical motion matches within the noise and the spread in all")
@@ -551,7 +581,7 @@ def figure(recs, slices, path, variants=None):
             ax.set_ylabel("mm", fontsize=8)
             ax.set_xlabel("simulated time (s)", fontsize=8)
             ax.tick_params(labelsize=7)
-        for k, v in enumerate(variants[row] if variants else []):
+        for k, v in enumerate(v for v in (variants[row] if variants else []) if v.xs):
             axes[row, 0].plot(v.ts, 1000 * np.mean([v.res[c] for c in v.xs], axis=0), lw=0.6,
                               color="grey", alpha=0.7,
                               label="variants (centroid)" if k == 0 else None)
@@ -627,8 +657,8 @@ def main():
                            f"drift and RMS excess is below {SIGNIFICANT:g} x the noise floor"
                         + (" or within the variants' spread" if variants else ""))
     pooled = {
-        "x_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.xs])),
-        "z_rms_m": rms(np.concatenate([r.res[c] for r in recs for c in r.zs])),
+        "x_rms_m": rms(np.concatenate([[]] + [r.res[c] for r in recs for c in r.xs])),
+        "z_rms_m": rms(np.concatenate([[]] + [r.res[c] for r in recs for c in r.zs])),
         "x_trend_m_per_cycle": [s["trend"]["x"]["mean_m_per_cycle"] for s in slices],
         "fraction_missing": [s.get("travel", {}).get("fraction_missing") for s in slices],
     }

@@ -27,12 +27,12 @@ BIN = os.path.join(ROOT, "build", "bin")
 
 
 def evaluate(case, out, recordings=("train/gait-a.csv", "train/gait-b.csv")):
-    """calibration-eval of the case's recordings under each variant: the eval.json paths."""
+    """calibration-eval of the case's recordings (or of files given by absolute path) under
+    each variant: the eval.json paths. calibration-eval creates its --out-dir."""
     files = ",".join(os.path.join(HERE, "cases", case, r) for r in recordings)
     paths = []
     for i, v in enumerate(VARIANTS):
-        d = os.path.join(out, f"{case}-v{i}")
-        os.makedirs(d, exist_ok=True)
+        d = os.path.join(out, f"{case}-v{i}", "sims")
         # the shipped cases' time offset (make_cases.py): the baseline fits about this much
         sets = "nuisance.time_offset_s=-0.02" + (f",{v}" if v else "")
         r = subprocess.run([os.path.join(BIN, "gaitforge-sim"), "calibration-eval",
@@ -42,6 +42,26 @@ def evaluate(case, out, recordings=("train/gait-a.csv", "train/gait-b.csv")):
             f.write(r.stdout)
         paths.append(os.path.join(d, "eval.json"))
     return paths
+
+
+def cut(src, dst, channels, every=1):
+    """A copy of recording src (100 Hz) with only `channels` and the rows on a grid of
+    `every` intervals: what another lab's capture may hold (fewer markers, one axis, a lower
+    rate; its dropped rows stay dropped), the values untouched."""
+    with open(src) as f:
+        rows = [line.rstrip("\n").split(",") for line in f if line.strip()]
+    keep = [0] + [rows[0].index(c) for c in channels]
+    t0 = float(rows[1][0])
+    with open(dst, "w") as f:
+        for k, row in enumerate(rows):
+            if k == 0 or round((float(row[0]) - t0) / 0.01) % every == 0:
+                f.write(",".join(row[i] for i in keep) + "\n")
+    with open(src + ".json") as f:
+        side = json.load(f)
+    side.pop("channels", None)
+    with open(dst + ".json", "w") as f:
+        json.dump(side, f)
+    return dst
 
 
 def locate(evals, out, variants=True):
@@ -95,6 +115,62 @@ class LocateAgainstSpread(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertIn("--variants", r.stderr)
         self.assertIn("gait-a.csv", r.stderr)
+
+
+
+class LocateWhatARecordingHolds(unittest.TestCase):
+    """Recordings made elsewhere: one axis only, two markers at half the rate."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="gf-locate-cut-")
+        src = os.path.join(HERE, "cases", "tether-hose", "train", "gait-b.csv")
+        markers = [f"m{i}" for i in range(1, 7)]
+        files = {
+            "x": cut(src, os.path.join(cls.tmp.name, "x-only.csv"), [m + ".x" for m in markers]),
+            "z": cut(src, os.path.join(cls.tmp.name, "z-only.csv"), [m + ".z" for m in markers]),
+            "ends": cut(src, os.path.join(cls.tmp.name, "ends-50hz.csv"),
+                        ["m1.x", "m1.z", "m6.x", "m6.z"], every=2),
+        }
+        cls.got = {}
+        for key, path in files.items():
+            evals = evaluate("hose-" + key, cls.tmp.name, (path,))
+            cls.got[key] = locate(evals, os.path.join(cls.tmp.name, key + ".json"))
+
+    def test_x_only_locates_the_hose_and_says_z_is_not_recorded(self):
+        r, got = self.got["x"]
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(got["beyond_spread"], got["summary"])
+        self.assertTrue(got["summary"].startswith("The mismatch lives mainly in forward travel"),
+                        got["summary"])
+        s = got["slices"]["recordings"][0]
+        self.assertIsNone(s["contact"])             # no height: no contact state
+        self.assertIsNotNone(s["velocity"])
+        self.assertIsNone(s["axis"]["z"]["rms_m"])
+        self.assertTrue(any("not recorded (no z channel)" in f for f in got["findings"]),
+                        got["findings"])
+
+    def test_z_only_has_no_travel_and_claims_none(self):
+        r, got = self.got["z"]
+        self.assertEqual(r.returncode, 0, r.stderr)
+        s = got["slices"]["recordings"][0]
+        self.assertNotIn("travel", s)
+        self.assertIsNone(s["velocity"])
+        self.assertIsNone(s["trend"]["x"]["mean_m_per_cycle"])
+        self.assertIsNone(s["numeric_spread"]["recorded_sds"])
+        self.assertFalse(got["summary"].startswith("The mismatch lives mainly in forward"))
+        self.assertIn("The forward travel is not compared in z-only.csv: no x channel.",
+                      got["summary"])
+        self.assertFalse(any("forward drift" in f for f in got["findings"]), got["findings"])
+
+    def test_two_markers_at_half_the_rate_still_locate_the_hose(self):
+        r, got = self.got["ends"]
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(got["beyond_spread"], got["summary"])
+        s = got["slices"]["recordings"][0]
+        self.assertLess(s["numeric_spread"]["recorded_sds"], -3)
+        self.assertIsNotNone(s["contact"])
+        self.assertEqual(sorted(s["axis"]["x"]["per_marker_rms_m"]), ["m1", "m6"])
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -162,6 +163,13 @@ absl::StatusOr<std::string> CalibrationEval(
   double time_offset = 0;
   for (const auto& [name, value] : overrides)
     if (name == "nuisance.time_offset_s") time_offset = value;
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec)
+      return absl::InvalidArgumentError(
+          absl::StrCat("--out-dir ", out_dir, ": cannot create the directory: ", ec.message()));
+  }
   caterpillar::CalibrationObjective objective(params);
   std::string json = "{\"recordings\": [";
   int i = 0;
