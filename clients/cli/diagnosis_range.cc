@@ -138,6 +138,26 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
       out_pt[side][i] = side == 0 ? a[i] : b[i];
       active[side] = active[side] && out_pt[side][i] != in_pt[side][i];
     }
+    // Where the box's edge is the parameter's bound (often the value at which the effect
+    // is absent), try the bound itself first: bisection alone never evaluates it, and ends
+    // 1/32 of the way short of a bound the data cannot tell from the fit.
+    {
+      std::vector<std::vector<double>> batch;
+      std::vector<int> sides;
+      for (int side = 0; side < 2; ++side)
+        if (active[side] && out_pt[side][i] == (side == 0 ? lo[i] : hi[i])) {
+          batch.push_back(out_pt[side]);
+          sides.push_back(side);
+        }
+      const std::vector<double> e = batch.empty() ? std::vector<double>{} : errors(batch);
+      out.evaluations += static_cast<int>(batch.size());
+      for (size_t q = 0; q < batch.size(); ++q)
+        if (q < e.size() && e[q] <= best + s.tolerance) {
+          in_pt[sides[q]] = batch[q];
+          active[sides[q]] = false;
+          ++out.accepted;
+        }
+    }
     for (int step = 0; step < kBisections && (active[0] || active[1]); ++step) {
       std::vector<std::vector<double>> batch;
       std::vector<int> sides;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <vector>
@@ -44,7 +45,7 @@ TEST(SearchRange, FindsTheSetWithinTheToleranceOfABowl) {
   EXPECT_FALSE(r.params[0].open_lo || r.params[0].open_hi || r.params[1].open_lo ||
                r.params[1].open_hi);
   EXPECT_GE(r.accepted, 8);
-  EXPECT_LE(r.evaluations, 1 + 4 * 40 + 2 * 2 * 5);  // the rounds and the bisections
+  EXPECT_LE(r.evaluations, 1 + 4 * 40 + 2 * 2 * (1 + 5));  // rounds, bounds, bisections
   // A looser tolerance, a wider range: sqrt(0.04) = 0.2 either side of x = 1.
   const FitRange wide = SearchRange(Search(0.04), Bowl);
   EXPECT_LT(wide.params[0].lo, r.params[0].lo);
@@ -58,10 +59,11 @@ TEST(SearchRange, AParameterTheErrorIgnoresSpansItsBoundsOrStaysOpen) {
     for (const auto& p : points) e.push_back((p[0] - 1) * (p[0] - 1));
     return e;
   };
-  // Bounds [0, 3]: the box grows to them; the range is (nearly) all of it, closed there.
+  // Bounds [0, 3]: the box grows to them, and the bounds themselves are tried: the range
+  // is all of it, closed there.
   const FitRange r = SearchRange(Search(0.01), only_x);
-  EXPECT_LE(r.params[1].lo, 0.3);
-  EXPECT_GE(r.params[1].hi, 2.7);
+  EXPECT_EQ(r.params[1].lo, 0);
+  EXPECT_EQ(r.params[1].hi, 3);
   EXPECT_FALSE(r.params[1].open_lo || r.params[1].open_hi);
   // Bounds far away: after the last round the set still meets the box: open, NAN ends.
   RangeSearch far = Search(0.01);
@@ -73,6 +75,30 @@ TEST(SearchRange, AParameterTheErrorIgnoresSpansItsBoundsOrStaysOpen) {
   EXPECT_TRUE(std::isnan(open.params[1].lo));
   EXPECT_TRUE(std::isnan(open.params[1].hi));
   EXPECT_FALSE(open.params[0].open_lo || open.params[0].open_hi);
+}
+
+// An effect fitted small whose absence (its zero bound) the data cannot tell from the fit,
+// as a deadband of 0.03 N the training error ignores below 0.3 N: the range reaches 0
+// itself, so that it holds the value that leaves the model as it is (RangeHolds), though
+// bisection alone stops 1/32 of the way short of the bound.
+TEST(SearchRange, ReachesABoundTheDataCannotTellFromTheFit) {
+  auto flat_near_zero = [](const std::vector<std::vector<double>>& points) {
+    std::vector<double> e;
+    for (const auto& p : points) {
+      const double over = std::max(0.0, p[1] - 0.3);
+      e.push_back((p[0] - 1) * (p[0] - 1) + over * over);
+    }
+    return e;
+  };
+  RangeSearch s = Search(0.01);
+  s.x0 = {1.02, 0.03};
+  const FitRange r = SearchRange(s, flat_near_zero);
+  EXPECT_EQ(r.params[1].lo, 0);
+  EXPECT_TRUE(RangeHolds(r.params[1], 0, 0, 3));
+  EXPECT_LE(r.params[1].hi, 0.4);
+  // A bound the data exclude is tried and refused: the range stays closed short of it.
+  EXPECT_GT(r.params[0].lo, 0.85);
+  EXPECT_FALSE(RangeHolds(r.params[0], 0, 0, 3));
 }
 
 TEST(SearchRange, IsDeterministicPerSeedAndSkipsFailedPoints) {
