@@ -4,6 +4,7 @@
 // pass, with any subset of markers, occlusions and a lab origin anywhere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -21,10 +22,18 @@ const char kSidecar[] =
 // A crawling caterpillar: markers 0.032 m apart along x at rest, a stroke stretching
 // neighbours by up to 11 mm, travel of 3 cm per 0.8 s, hops of 2 mm; positions times
 // `scale`, x times `x_sign`, shifted to a lab origin. `markers` lists which of m1..m6 appear.
+// With `heading_deg` (not NAN) the robot walks at that angle to x in the x-y plane, and
+// the y columns are written too.
 std::string Crawl(double scale, double x_sign, const std::vector<int>& markers,
-                  double origin_x = 1.7, double origin_z = 0.76) {
+                  double origin_x = 1.7, double origin_z = 0.76, double heading_deg = NAN) {
+  const bool with_y = std::isfinite(heading_deg);
+  const double c = with_y ? std::cos(heading_deg * M_PI / 180) : 1.0;
+  const double s = with_y ? std::sin(heading_deg * M_PI / 180) : 0.0;
   std::string csv = "t";
-  for (int m : markers) csv += ",m" + std::to_string(m) + ".x,m" + std::to_string(m) + ".z";
+  for (int m : markers) {
+    const std::string n = ",m" + std::to_string(m);
+    csv += n + ".x" + (with_y ? n + ".y" : "") + n + ".z";
+  }
   csv += "\n";
   char buf[64];
   for (int row = 0; row < 300; ++row) {
@@ -34,9 +43,16 @@ std::string Crawl(double scale, double x_sign, const std::vector<int>& markers,
     const double phase = std::sin(2 * M_PI * t / 0.8);
     for (int m : markers) {
       const double stretch = (m % 2 == 0 ? 0.011 : 0.0) * (0.5 + 0.5 * phase);
-      const double x = origin_x + 0.0375 * t + 0.032 * (m - 1) + stretch;
+      const double along = 0.0375 * t + 0.032 * (m - 1) + stretch;
+      const double x = origin_x + c * along, y = 0.4 + s * along;
       const double z = origin_z + 0.025 + 0.002 * std::max(0.0, phase);
-      std::snprintf(buf, sizeof buf, ",%.9g,%.9g", scale * x_sign * x, scale * z);
+      std::snprintf(buf, sizeof buf, ",%.9g", scale * x_sign * x);
+      csv += buf;
+      if (with_y) {
+        std::snprintf(buf, sizeof buf, ",%.9g", scale * y);
+        csv += buf;
+      }
+      std::snprintf(buf, sizeof buf, ",%.9g", scale * z);
       csv += buf;
     }
     csv += "\n";
@@ -74,6 +90,50 @@ TEST(MarkerFrameTest, AReversedXAxisIsRefused) {
             "walk.csv:1:4: m2 is 0.0379 m per marker behind m1 along x (median over the "
             "recording, m1.x and m2.x); x must point forward and m1 be the rear marker: the "
             "x axis looks reversed, or the markers are numbered from the front");
+}
+
+TEST(MarkerFrameTest, AFrameTurnedAboutZIsRefusedWithTheAngle) {
+  // A lab frame a few degrees off passes; 30 degrees names the turn to undo.
+  EXPECT_EQ(ErrorOf(Crawl(1, 1, {1, 2, 3, 4, 5, 6}, 1.7, 0.76, 0)), "OK");
+  EXPECT_EQ(ErrorOf(Crawl(1, 1, {1, 2, 3, 4, 5, 6}, 1.7, 0.76, 5)), "OK");
+  EXPECT_EQ(ErrorOf(Crawl(1, 1, {1, 2, 3, 4, 5, 6}, 1.7, 0.76, 30)),
+            "walk.csv:1:5: the markers lie at 30 degrees from x in the x-y plane (per marker "
+            "step 0.0328 m along x and 0.019 m along y, median over the recording, m1.x and "
+            "m2.x and their y); x must point along the robot, from m1 (the rear) forward: "
+            "rotate the positions by -30 degrees about z");
+  // Walking along y: the x spacing alone is nothing; with y, the angle.
+  const std::string along_y = ErrorOf(Crawl(1, 1, {1, 3, 6}, 1.7, 0.76, 90));
+  EXPECT_NE(along_y.find("the markers lie at 90 degrees from x"), std::string::npos) << along_y;
+  EXPECT_NE(along_y.find("rotate the positions by -90 degrees about z"), std::string::npos)
+      << along_y;
+  std::string no_y;  // the same recording without its y columns
+  {
+    const std::string with_y = Crawl(1, 1, {1, 3, 6}, 1.7, 0.76, 90);
+    size_t start = 0;
+    while (start < with_y.size()) {
+      const size_t end = with_y.find('\n', start);
+      std::vector<std::string> f;
+      for (size_t a = start, b; a <= end; a = b + 1) {
+        b = std::min(with_y.find(',', a), end);
+        f.push_back(with_y.substr(a, b - a));
+      }
+      for (size_t k = 0; k < f.size(); ++k)
+        if (k == 0 || k % 3 != 2) no_y += (k ? "," : "") + f[k];
+      no_y += "\n";
+      start = end + 1;
+    }
+  }
+  ASSERT_EQ(no_y.substr(0, no_y.find('\n')), "t,m1.x,m1.z,m3.x,m3.z,m6.x,m6.z");
+  EXPECT_EQ(ErrorOf(no_y),
+            "walk.csv:1:4: neighbouring markers are only 0 m apart along x (median "
+            "over the recording, m1.x and m3.x); the caterpillar's neighbouring markers are "
+            "about 0.032 m apart: x must point along the robot, from m1 (the rear) forward, "
+            "and z up; if the lab's frame is turned about z, include the y columns and the "
+            "message says by how much");
+  // Millimetres turned by 90 degrees are still millimetres.
+  const std::string mm = ErrorOf(Crawl(1000, 1, {1, 2, 3}, 1.7, 0.76, 90));
+  EXPECT_NE(mm.find("apart along x and y"), std::string::npos) << mm;
+  EXPECT_NE(mm.find("millimetres"), std::string::npos) << mm;
 }
 
 TEST(MarkerFrameTest, OcclusionsDoNotFoolTheMedian) {

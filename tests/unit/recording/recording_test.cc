@@ -551,9 +551,9 @@ TEST(RecordingTest, ParsesAHundredThousandRows) {
       csv.append(buf, p);
     };
     put(k * 0.01);
-    for (int c = 0; c < 18; ++c) {
+    for (int c = 0; c < 18; ++c) {  // m1.x, m1.y, m1.z, m2.x, ...: x 0.032 m apart
       csv += ',';
-      put(0.0125 + 1e-4 * c + 1e-7 * k);
+      put(c % 3 == 0 ? 0.032 * (c / 3) + 1e-7 * k : c % 3 == 1 ? 0.0 : 0.0125 + 1e-4 * c + 1e-7 * k);
     }
     csv += '\n';
   }
