@@ -33,9 +33,14 @@ Input: the JSON of
               (the 1st percentile, robust to the noise), airborne otherwise: the share of
               samples, the RMS of the detrended x and z residual, and the x drift that
               accrues in each state (sum of the x residual's steps, m per cycle).
-    velocity  the sign of the recorded x velocity of each marker (central difference):
-              (central difference over +-2 samples): forward (v > 0) or backward (v <= 0);
-              the same numbers as contact for each.
+    velocity  the sign of the recorded x velocity of each marker (central difference
+              over +-2 samples): forward (v > 0) or backward (v <= 0); the same numbers as
+              contact for each.
+  Any subset of markers and axes: contact uses the markers with x and z, velocity those
+  with x; a slice the recording cannot give is null (no z: no contact, no x: no travel,
+  drift or velocity) and the findings say the axis is not recorded, never that it matches.
+  The noise floor is taken between consecutive samples: at low rates (50 Hz and below) it
+  also holds the model's fast mismatches and grows, which makes the step more cautious.
   numeric_spread  (with --variants: the same fit evaluated under numerically irrelevant
               variants, timestep and contact softness) per recording: the simulated travel
               per cycle under each variant (the first is the main eval), their mean and sd,
