@@ -337,7 +337,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
           "data require only %s, which is named for it",
           1000 * c.held, 1000 * named[0]->held, source->label, 1000 * source->held,
           named[0]->label);
-    return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule);
+    std::vector<const FitScore*> others;
+    for (const Candidate& f : full) others.push_back(&f);
+    return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule, others);
   };
   auto effect_json = [&](const Candidate& c) {
     std::string j = absl::StrCat("{\"id\": ", Quote(c.label), ", \"params\": {");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 
 namespace gaitforge::cli {
 
@@ -199,15 +200,21 @@ Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermin
 }
 
 std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
-                        const DecisionRule& rule) {
+                        const DecisionRule& rule, const std::vector<const FitScore*>& others) {
   if (&fit == winner) return "";
   if (std::string why = Shortfall(base, fit, rule); !why.empty()) return why;
   if (!winner) return "passed every test";
+  const std::string larger = absl::StrFormat(
+      "(a larger fit must beat its member by the BIC margin and %.0f%% held out)",
+      100 * rule.pair_gain);
   if (Contains(fit, *winner))
-    return absl::StrFormat("passed every test, but adds nothing the named explanation lacks "
-                           "(a larger fit must beat its member by the BIC margin and %.0f%% held "
-                           "out)",
-                           100 * rule.pair_gain);
+    return "passed every test, but adds nothing the named explanation lacks " + larger;
+  for (const FitScore* m : others)  // as Decide: a passing member it does not beat
+    if (m && m != &fit && m->effects.size() < fit.effects.size() && Contains(fit, *m) &&
+        BeatsBaseline(base, *m, rule) &&
+        (fit.bic > m->bic - rule.margin || fit.held > (1 - rule.pair_gain) * m->held))
+      return absl::StrFormat("passed every test, but adds nothing its member %s lacks %s",
+                             absl::StrJoin(m->effects, "+"), larger);
   return absl::StrFormat("passed every test, but the named explanation predicts the held-out "
                          "recordings better (%.3g against %.3g mm)",
                          1000 * winner->held, 1000 * fit.held);

@@ -89,9 +89,10 @@ Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermin
 
 // Why `fit` was not named, in words for the report: the first test of BeatsBaseline it
 // fails, with its figures ("cut the held-out error by only 6% (the rule asks 15%)"); for a
-// fit that passed, what the named explanation `winner` (null: none) did better. Empty for
-// the named fit itself.
+// fit that passed, what the named explanation `winner` (null: none) did better, or, when a
+// passing fit among `others` is a member of it that it does not beat by the margins (as
+// Decide drops it), that it adds nothing to that member. Empty for the named fit itself.
 std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
-                        const DecisionRule& rule);
+                        const DecisionRule& rule, const std::vector<const FitScore*>& others = {});
 
 }  // namespace gaitforge::cli

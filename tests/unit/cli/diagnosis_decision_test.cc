@@ -301,5 +301,23 @@ TEST(WhyNotNamed, SaysWhichTestFailedWithItsFigures) {
             "(533 against 600 mm)");
 }
 
+// A pair dropped for its member, while another single is named (a sparse capture of the
+// independent simulator's 80 ms lag): the pair predicts the held-out data better than the
+// named force scale, so "the named explanation predicts better" would be false.
+TEST(WhyNotNamed, APairDroppedForItsMemberSaysSoWhoeverIsNamed) {
+  const FitScore base = Fit({}, 0, {2, 2, 2, 2, 2, 2});
+  const FitScore force = Fit({"actuator.force_scale"}, -352, {1.1, 1.2, 1.1, 1.1, 1.1, 1.1});
+  const FitScore lag = Fit({"actuator.lag"}, -541, {1.2, 1.1, 1.2, 1.1, 1.2, 1.2});
+  const FitScore pair =
+      Fit({"actuator.lag", "actuator.deadband"}, -535, {0.7, 0.7, 0.6, 0.7, 0.7, 0.8});
+  const DecisionRule rule;
+  EXPECT_EQ(WhyNotNamed(base, pair, &force, rule, {&force, &lag, &pair}),
+            "passed every test, but adds nothing its member actuator.lag lacks (a larger fit "
+            "must beat its member by the BIC margin and 5% held out)");
+  // Without the member among the others, the old words (and they would be false here).
+  EXPECT_NE(WhyNotNamed(base, pair, &force, rule).find("predicts the held-out recordings better"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace gaitforge::cli
