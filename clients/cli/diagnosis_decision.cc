@@ -86,6 +86,13 @@ bool Contains(const FitScore& outer, const FitScore& inner) {
   });
 }
 
+// A larger fit that contains `member` and does not beat it by the BIC margin and pair_gain
+// held out: it adds nothing the member lacks (Decide drops it; WhyNotNamed says so).
+bool AddsNothingTo(const FitScore& fit, const FitScore& member, const DecisionRule& rule) {
+  return Contains(fit, member) && (fit.bic > member.bic - rule.margin ||
+                                   fit.held > (1 - rule.pair_gain) * member.held);
+}
+
 bool Overlaps(const FitScore& a, const FitScore& b) {
   return std::any_of(a.effects.begin(), a.effects.end(), [&](const std::string& e) {
     return std::find(b.effects.begin(), b.effects.end(), e) != b.effects.end();
@@ -107,9 +114,7 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
     if (!BeatsBaseline(base, c, rule)) continue;
     bool dominated = false;
     for (int w : winners) {
-      if (Contains(c, fits[w]) &&
-          (c.bic > fits[w].bic - rule.margin || c.held > (1 - rule.pair_gain) * fits[w].held))
-        dominated = true;
+      if (AddsNothingTo(c, fits[w], rule)) dominated = true;
     }
     if (!dominated) winners.push_back(i);
   }
@@ -210,9 +215,8 @@ std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScor
   if (Contains(fit, *winner))
     return "passed every test, but adds nothing the named explanation lacks " + larger;
   for (const FitScore* m : others)  // as Decide: a passing member it does not beat
-    if (m && m != &fit && m->effects.size() < fit.effects.size() && Contains(fit, *m) &&
-        BeatsBaseline(base, *m, rule) &&
-        (fit.bic > m->bic - rule.margin || fit.held > (1 - rule.pair_gain) * m->held))
+    if (m && m != &fit && m->effects.size() < fit.effects.size() &&
+        BeatsBaseline(base, *m, rule) && AddsNothingTo(fit, *m, rule))
       return absl::StrFormat("passed every test, but adds nothing its member %s lacks %s",
                              absl::StrJoin(m->effects, "+"), larger);
   return absl::StrFormat("passed every test, but the named explanation predicts the held-out "
