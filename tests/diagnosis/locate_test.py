@@ -131,6 +131,7 @@ class LocateWhatARecordingHolds(unittest.TestCase):
             "z": cut(src, os.path.join(cls.tmp.name, "z-only.csv"), [m + ".z" for m in markers]),
             "ends": cut(src, os.path.join(cls.tmp.name, "ends-50hz.csv"),
                         ["m1.x", "m1.z", "m6.x", "m6.z"], every=2),
+            "y": cut(src, os.path.join(cls.tmp.name, "y-only.csv"), ["m3.y"]),
         }
         cls.got = {}
         for key, path in files.items():
@@ -162,6 +163,12 @@ class LocateWhatARecordingHolds(unittest.TestCase):
         self.assertIn("The forward travel is not compared in z-only.csv: no x channel.",
                       got["summary"])
         self.assertFalse(any("forward drift" in f for f in got["findings"]), got["findings"])
+
+    def test_a_recording_without_x_or_z_is_refused_naming_it(self):
+        r, got = self.got["y"]
+        self.assertEqual(r.returncode, 2)
+        self.assertIsNone(got)
+        self.assertIn("y-only.csv: no x or z marker channel", r.stderr)
 
     def test_two_markers_at_half_the_rate_still_locate_the_hose(self):
         r, got = self.got["ends"]
