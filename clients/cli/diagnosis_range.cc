@@ -5,6 +5,7 @@
 #include "clients/cli/diagnosis_decision.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -19,6 +20,7 @@ constexpr int kRounds = 4;
 constexpr int kPointsPerGene = 20;
 constexpr int kEnoughAccepted = 8;
 constexpr int kBisections = 5;  // per end of each range: 1/32 of the way to the box
+constexpr int kExpansions = 4;  // past an accepted box edge: steps of 1, 2, 4, 8 box widths
 constexpr double kStartSpan = 0.3;  // of |value| (at least 5% of the gene's range)
 
 // Uniform in [0, 1) from 53 bits: the same on every platform (std distributions are not).
@@ -119,15 +121,16 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
       }
     }
   }
-  // Random points reach a corner of the accepted set's extent rarely: push each closed end
-  // outwards along its axis from the accepted point that holds it, by bisection towards the
-  // box's edge (both ends of one parameter in one batch).
+  // Random points reach a corner of the accepted set's extent rarely, and the set may go on
+  // past the box after the last round: push each end outwards along its axis from the
+  // accepted point that holds it (both ends of one parameter in one batch).
   double best = INFINITY;
   for (double v : es)
     if (std::isfinite(v)) best = std::min(best, v);
+  std::vector<std::array<bool, 2>> open_end(k, {false, false});
   for (size_t i = 0; i < k; ++i) {
     std::vector<double> in_pt[2], out_pt[2];  // [0] the low end, [1] the high end
-    bool active[2] = {!touch_lo[i], !touch_hi[i]};
+    bool active[2];
     for (int side = 0; side < 2; ++side) {
       size_t holder = 0;
       for (size_t p = 0; p < xs.size(); ++p)
@@ -136,27 +139,46 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
           holder = p;
       in_pt[side] = out_pt[side] = xs[holder];
       out_pt[side][i] = side == 0 ? a[i] : b[i];
-      active[side] = active[side] && out_pt[side][i] != in_pt[side][i];
+      active[side] = out_pt[side][i] != in_pt[side][i];
     }
-    // Where the box's edge is the parameter's bound (often the value at which the effect
-    // is absent), try the bound itself first: bisection alone never evaluates it, and ends
-    // 1/32 of the way short of a bound the data cannot tell from the fit.
+    // Try the box's edge itself first. Where it is the parameter's bound (often the value at
+    // which the effect is absent), bisection alone would never evaluate it and would end 1/32
+    // of the way short of a bound the data cannot tell from the fit. Where it is not a bound
+    // and is accepted, the range goes on past the box: step on outwards, each step twice the
+    // last, until a point is refused (bisection then works between), the bound is reached,
+    // or kExpansions steps were all accepted (the range is open on that side).
+    bool open[2] = {false, false};
     {
-      std::vector<std::vector<double>> batch;
-      std::vector<int> sides;
-      for (int side = 0; side < 2; ++side)
-        if (active[side] && out_pt[side][i] == (side == 0 ? lo[i] : hi[i])) {
-          batch.push_back(out_pt[side]);
-          sides.push_back(side);
-        }
-      const std::vector<double> e = batch.empty() ? std::vector<double>{} : errors(batch);
-      out.evaluations += static_cast<int>(batch.size());
-      for (size_t q = 0; q < batch.size(); ++q)
-        if (q < e.size() && e[q] <= best + s.tolerance) {
-          in_pt[sides[q]] = batch[q];
-          active[sides[q]] = false;
+      bool probing[2] = {active[0], active[1]};
+      double stride[2] = {-(b[i] - a[i]), b[i] - a[i]};  // the box's width, then doubling
+      for (int step = 0; step <= kExpansions && (probing[0] || probing[1]); ++step) {
+        std::vector<std::vector<double>> batch;
+        std::vector<int> sides;
+        for (int side = 0; side < 2; ++side)
+          if (probing[side]) {
+            batch.push_back(out_pt[side]);
+            sides.push_back(side);
+          }
+        const std::vector<double> e = errors(batch);
+        out.evaluations += static_cast<int>(batch.size());
+        for (size_t q = 0; q < batch.size(); ++q) {
+          const int side = sides[q];
+          if (!(q < e.size() && e[q] <= best + s.tolerance)) {
+            probing[side] = false;  // refused: bisect between the last accepted and here
+            continue;
+          }
           ++out.accepted;
+          in_pt[side] = out_pt[side];
+          const double bound = side == 0 ? lo[i] : hi[i];
+          if (in_pt[side][i] == bound || step == kExpansions) {
+            probing[side] = active[side] = false;
+            open[side] = in_pt[side][i] != bound;
+            continue;
+          }
+          out_pt[side][i] = std::clamp(in_pt[side][i] + stride[side], lo[i], hi[i]);
+          stride[side] *= 2;
         }
+      }
     }
     for (int step = 0; step < kBisections && (active[0] || active[1]); ++step) {
       std::vector<std::vector<double>> batch;
@@ -178,11 +200,12 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
     }
     acc_lo[i] = std::min(acc_lo[i], in_pt[0][i]);
     acc_hi[i] = std::max(acc_hi[i], in_pt[1][i]);
+    open_end[i] = {open[0], open[1]};
   }
   for (size_t i = 0; i < k; ++i) {
     ParamRange& r = out.params[i];
-    r.open_lo = touch_lo[i];
-    r.open_hi = touch_hi[i];
+    r.open_lo = open_end[i][0];
+    r.open_hi = open_end[i][1];
     r.lo = r.open_lo ? NAN : std::min(acc_lo[i], x0[i]);  // the fit stays in its range
     r.hi = r.open_hi ? NAN : std::max(acc_hi[i], x0[i]);
   }

@@ -16,7 +16,7 @@ namespace gaitforge::cli::diagnosis {
 
 struct ParamRange {
   double lo = NAN, hi = NAN;             // NAN: not bounded within the search on that side
-  bool open_lo = false, open_hi = false;  // the range reached the search's edge there
+  bool open_lo = false, open_hi = false;  // steps past the box found no end there
 };
 
 struct FitRange {
@@ -66,9 +66,11 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors);
 // Samples c's non-nuisance genes in a box around the fit (the time offset held at its fit)
 // and keeps the points whose weighted training error is within `tolerance` of the least
 // found; the box shrinks onto a small accepted set and grows where the set touches it
-// (never past a gene's bounds), for at most 4 rounds of 20 points per gene; then each
-// closed end is pushed outwards along its axis by 5 bisections. Deterministic for a given
-// seed. Evaluations run two at a time (gaitforge-sim calibration-eval).
+// (never past a gene's bounds), for at most 4 rounds of 20 points per gene; then each end
+// is pushed outwards along its axis: the box's edge is tried, and where it is accepted steps
+// of 1, 2, 4, 8 box widths go on past it until one is refused, then 5 bisections between.
+// Deterministic for a given seed. Evaluations run two at a time (gaitforge-sim
+// calibration-eval).
 FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
                     const std::vector<std::string>& train_files,
                     const std::vector<double>& weights, double tolerance, uint64_t seed);

@@ -65,14 +65,22 @@ TEST(SearchRange, AParameterTheErrorIgnoresSpansItsBoundsOrStaysOpen) {
   EXPECT_EQ(r.params[1].lo, 0);
   EXPECT_EQ(r.params[1].hi, 3);
   EXPECT_FALSE(r.params[1].open_lo || r.params[1].open_hi);
-  // Bounds far away: after the last round the set still meets the box: open, NAN ends.
+  // Bounds far away (+-1e6): steps past the box reach them, and they are accepted.
   RangeSearch far = Search(0.01);
   far.lo[1] = -1e6;
   far.hi[1] = 1e6;
-  const FitRange open = SearchRange(far, only_x);
-  EXPECT_TRUE(open.params[1].open_lo);
+  const FitRange all = SearchRange(far, only_x);
+  EXPECT_EQ(all.params[1].lo, -1e6);
+  EXPECT_EQ(all.params[1].hi, 1e6);
+  // From a fit near the lower bound, this seed's rounds end early (enough accepted points,
+  // none at the box's edge): the steps past the box, 15 box widths in all, reach no end and
+  // not the bound. Open (RangeShare and RangeHolds take it to the bound), NAN end.
+  RangeSearch near0 = Search(0.01, 5);
+  near0.x0 = {1.0, 0.03};
+  near0.hi[1] = 1e6;
+  const FitRange open = SearchRange(near0, only_x);
+  EXPECT_EQ(open.params[1].lo, 0);
   EXPECT_TRUE(open.params[1].open_hi);
-  EXPECT_TRUE(std::isnan(open.params[1].lo));
   EXPECT_TRUE(std::isnan(open.params[1].hi));
   EXPECT_FALSE(open.params[0].open_lo || open.params[0].open_hi);
 }
@@ -99,6 +107,30 @@ TEST(SearchRange, ReachesABoundTheDataCannotTellFromTheFit) {
   // A bound the data exclude is tried and refused: the range stays closed short of it.
   EXPECT_GT(r.params[0].lo, 0.85);
   EXPECT_FALSE(RangeHolds(r.params[0], 0, 0, 3));
+}
+
+// A set that goes on past the search's box: a tolerance so tight that one point in thirty
+// is accepted (the box shrinks onto them), and an error that ignores y up to 0.4. The end is
+// found past the box by steps and bisection (session 11: it was either 1/32 short of the
+// box's edge, closed, or open where the accepted points touched the edge in the last round).
+TEST(SearchRange, AnEndPastTheBoxIsFollowed) {
+  auto flat_to_04 = [](const std::vector<std::vector<double>>& points) {
+    std::vector<double> e;
+    for (const auto& p : points) {
+      const double over = std::max(0.0, p[1] - 0.4);
+      e.push_back((p[0] - 1) * (p[0] - 1) + 100 * over * over);
+    }
+    return e;
+  };
+  RangeSearch s = Search(1e-4);
+  s.x0 = {1.0, 0.03};
+  const FitRange r = SearchRange(s, flat_to_04);
+  EXPECT_EQ(r.params[1].lo, 0);
+  EXPECT_FALSE(r.params[1].open_hi);
+  EXPECT_GE(r.params[1].hi, 0.38);
+  EXPECT_LE(r.params[1].hi, 0.401);
+  EXPECT_GE(r.params[0].lo, 0.99);
+  EXPECT_LE(r.params[0].hi, 1.01);
 }
 
 TEST(SearchRange, IsDeterministicPerSeedAndSkipsFailedPoints) {
