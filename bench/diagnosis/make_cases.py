@@ -108,6 +108,9 @@ CASES = [
     ("heavy-light", "mass.offset", {"scale.mass": 1.15}, 129),
     ("soft-links-mild", "stiffness.scale", {"scale.link_stiffness": 0.8}, 130),
     ("soft-ground-strong", "contact.softness", {"ground.contact_cfm": 3e-3}, 131),
+    # Session 13: the link damping (damping.scale), below and above the paper's critical.
+    ("underdamped", "damping.scale", {"scale.link_damping": 0.3}, 132),
+    ("overdamped", "damping.scale", {"scale.link_damping": 2.5}, 133),
 ]
 
 NOISE_SD_M = 3e-4

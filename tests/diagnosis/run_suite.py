@@ -34,25 +34,32 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=""):
+def spec_text(case_dir, c, screening, full, base="", weighting=""):
+    """The diagnosis spec of a case (its case.json as `c`). It names the files by absolute
+    path; the case name stays out of it."""
+    lines = ["name: case", "seed: 1", "robot: caterpillar",
+             "training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]",
+             "held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]",
+             f"screening_evaluations: {screening}", f"full_evaluations: {full}"]
+    if weighting:
+        lines.append(f"weighting: {weighting}")
+    if base:  # NAME:LO:HI,... -> base_parameters, fitted in every study
+        lines.append("base_parameters:")
+        for item in base.split(","):
+            name, lo, hi = item.split(":")
+            lines.append(f"  - {{name: {name}, lo: {float(lo)!r}, hi: {float(hi)!r}}}")
+    return "\n".join(lines) + "\n"
+
+
+def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting="", extra=""):
+    """`gaitforge diagnose` on a case; `extra`: more spec lines (e.g. `candidates: [...]`)."""
     case_dir = os.path.join(suite, "cases", case)
     with open(os.path.join(case_dir, "case.json")) as f:
         c = json.load(f)
     with tempfile.TemporaryDirectory(prefix=f"gf-diag-{case}-") as d:
-        # The spec names the files by absolute path; the case name stays out of it.
         spec = os.path.join(d, "diagnosis.yaml")
         with open(spec, "w") as f:
-            f.write("name: case\nseed: 1\nrobot: caterpillar\n")
-            f.write("training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]\n")
-            f.write("held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]\n")
-            f.write(f"screening_evaluations: {screening}\nfull_evaluations: {full}\n")
-            if weighting:
-                f.write(f"weighting: {weighting}\n")
-            if base:  # NAME:LO:HI,... -> base_parameters, fitted in every study
-                f.write("base_parameters:\n")
-                for item in base.split(","):
-                    name, lo, hi = item.split(":")
-                    f.write(f"  - {{name: {name}, lo: {float(lo)!r}, hi: {float(hi)!r}}}\n")
+            f.write(spec_text(case_dir, c, screening, full, base, weighting) + extra)
         t0 = time.monotonic()
         r = subprocess.run([os.path.join(bin_dir, "gaitforge"), "diagnose", spec, "--json",
                             "--workers", str(workers)], cwd=d, capture_output=True, text=True)

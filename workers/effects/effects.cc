@@ -171,6 +171,22 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Film one lump during a stroke (its front and rear faces separately), or compare with "
        "a finer lumped or FEA model on the same gaits: deformable lumps show as faces of one "
        "lump moving apart, an external force does not deform a lump."},
+      {"damping.scale",
+       "Link damping",
+       "The body dissipates more or less than the paper's critical damping: the silicone's "
+       "viscoelastic loss and the pistons' internal friction (paper 004 identifies damping "
+       "apart from stiffness and finds it growing with the bend; one factor is its first "
+       "term). Both damping ratios (axial and bending, every link) scaled by one factor; the "
+       "stiffnesses stay as they are.",
+       {{"scale.link_damping", 0.1, 5, 1, ""}},
+       "The transients of each stroke: with less damping the links overshoot and ring after "
+       "every valve switch, with more the neighbouring lumps follow a stroke late and the "
+       "strokes grow sluggish as the gait gets faster; hops change as the body keeps or "
+       "loses the stroke's energy. The static shape is unchanged.",
+       "Pluck one segment of the resting robot and film its decay (the logarithmic "
+       "decrement, as paper 001 measured its knees): damping sets the decay, "
+       "stiffness the frequency; or run one gait at two periods: a damping error grows "
+       "with the stroke rate, a stiffness error does not."},
   };
   return catalog;
 }

@@ -11,7 +11,7 @@
 // Ids are stable (a study or report may store them):
 //   tether.constant tether.growing ground.slope friction.viscous friction.anisotropic
 //   actuator.lag actuator.delay actuator.force_scale actuator.deadband contact.softness mass.offset
-//   stiffness.scale spring.softening model.resolution
+//   stiffness.scale spring.softening model.resolution damping.scale
 #include <string>
 #include <string_view>
 #include <vector>

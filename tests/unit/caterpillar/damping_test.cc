@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tests/unit/caterpillar/test_helpers.h"
+#include "workers/models/caterpillar/param_overrides.h"
 
 namespace gaitforge::caterpillar::testing {
 namespace {
@@ -62,6 +63,42 @@ TEST_P(CaterpillarDamping, BendingLogDecrementMatchesTarget) {
   std::vector<double> bend;
   Simulate(sim, 0.2, 0, nullptr, [&](CaterpillarSim& s) { bend.push_back(s.body().LinkBend(0)); });
   EXPECT_NEAR(MeasuredRatio(bend), GetParam().ratio, 0.05 * GetParam().ratio);
+}
+
+// The catalog's damping.scale (scale.link_damping) multiplies both ratios: from the paper's
+// critical damping, a factor of 0.2 must show as zeta 0.2 in the axial and bending decrements
+// of a flexure link, and a factor that leaves a ratio outside [0.01, 10] is refused with
+// the field named.
+TEST(CaterpillarDampingScale, ScalesBothRatiosAndTheirDecrements) {
+  CaterpillarParams p = Params();
+  ASSERT_EQ(p.links.axial_damping_ratio, 1.0);
+  ASSERT_TRUE(SetParam(p, "scale.link_damping", 0.2).ok());
+  EXPECT_DOUBLE_EQ(p.links.axial_damping_ratio, 0.2);
+  EXPECT_DOUBLE_EQ(p.links.bending_damping_ratio, 0.2);
+  EXPECT_EQ(p.links.flexure.axial_n_per_m, Params().links.flexure.axial_n_per_m);
+  {
+    CaterpillarSim sim(p, FreeChain(1, 2));
+    dBodySetLinearVel(sim.body().lump(0), -0.05, 0, 0);
+    dBodySetLinearVel(sim.body().lump(1), 0.05, 0, 0);
+    std::vector<double> stretch;
+    Simulate(sim, 0.2, 0, nullptr,
+             [&](CaterpillarSim& s) { stretch.push_back(s.body().LinkExtension(0)); });
+    EXPECT_NEAR(MeasuredRatio(stretch), 0.2, 0.01);
+  }
+  {
+    CaterpillarSim sim(p, FreeChain(1, 2));
+    dBodySetAngularVel(sim.body().lump(0), 0, -2, 0);
+    dBodySetAngularVel(sim.body().lump(1), 0, 2, 0);
+    std::vector<double> bend;
+    Simulate(sim, 0.2, 0, nullptr,
+             [&](CaterpillarSim& s) { bend.push_back(s.body().LinkBend(0)); });
+    EXPECT_NEAR(MeasuredRatio(bend), 0.2, 0.01);
+  }
+  CaterpillarParams q = Params();
+  const absl::Status s = SetParam(q, "scale.link_damping", 20);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(std::string(s.message()).find("links.axial_damping_ratio"), std::string::npos) << s;
+  EXPECT_EQ(q.links.axial_damping_ratio, 1.0);  // unchanged on error
 }
 
 INSTANTIATE_TEST_SUITE_P(Links, CaterpillarDamping,

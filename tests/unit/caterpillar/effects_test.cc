@@ -370,7 +370,7 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
                      "tether.constant", "tether.growing", "ground.slope", "friction.viscous",
                      "friction.anisotropic", "actuator.lag", "actuator.delay",
                      "actuator.force_scale", "actuator.deadband", "contact.softness", "mass.offset", "stiffness.scale",
-                     "spring.softening", "model.resolution"}));
+                     "spring.softening", "model.resolution", "damping.scale"}));
   for (const auto& e : effects::EffectCatalog()) {
     EXPECT_EQ(effects::FindEffect(e.id), &e);
     EXPECT_FALSE(e.name.empty() || e.meaning.empty() || e.where.empty() || e.experiment.empty())

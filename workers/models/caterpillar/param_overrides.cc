@@ -75,6 +75,7 @@ const std::vector<Scale>& Scales() {
        {"links.flexure.bending_stiffness_nm_per_rad",
         "links.segment.bending_stiffness_nm_per_rad"}},
       {"scale.mass", {"lumps.mass_kg"}},
+      {"scale.link_damping", {"links.axial_damping_ratio", "links.bending_damping_ratio"}},
   };
   return scales;
 }

@@ -41,6 +41,8 @@
 //   scale.axial_stiffness    the two axial stiffnesses
 //   scale.bending_stiffness  the two bending stiffnesses
 //   scale.mass               lumps.mass_kg (damping is a ratio of critical, so it follows)
+//   scale.link_damping       both damping ratios (axial and bending, every link and the
+//                            half-lump blocks of effect.lump_compliance_per_mpa)
 // Names are applied in order; a scale multiplies whatever the field holds at that point.
 //
 // Nuisance names are parameters of the comparison, not of the model; the objective handles
