@@ -18,7 +18,8 @@ Effects are written in forms of their own (EFFECTS below), not the library's: a 
 pulls the rear lump backwards and 30 degrees upwards, growing with distance; quadratic drag;
 a first-order lag on the actuators' force; a tilted gravity; seal friction of the pistons
 with a breakaway force above the sliding one (Stribeck form, smoothed through zero speed);
-a softer silicone in the lumps (lump_modulus_pa: the inner beam elements' modulus).
+a softer silicone in the lumps (lump_modulus_pa: the inner beam elements' modulus); lossier
+links between the lumps (link_damping_scale: their axial and bending damping times a factor).
 
 Vectorised over a batch of runs that share one gait (numpy). Output: the recording CSV of
 docs/recording-format.md (t, m1.x, m1.y, m1.z, ..., m6.z) from the end of the settle cycles.
@@ -158,6 +159,10 @@ class Rig:
         scale = np.array([e.get("lump_modulus_pa", E_SILICONE) / E_SILICONE for e in effects])
         self.kscale = np.where(_INNER[None, :], scale[:, None], 1.0)
         self.cscale = np.sqrt(self.kscale)
+        # Lossier links (link_damping_scale): the damping of the links between lumps, axial
+        # and bending, times a factor; the lumps' own silicone and the shear rows keep theirs.
+        loss = np.array([e.get("link_damping_scale", 1.0) for e in effects])
+        self.dscale = np.where(_INNER[None, :], 1.0, loss[:, None])
 
     def on(self, t):
         phase = (t % self.period) / self.period
@@ -199,11 +204,12 @@ class Rig:
         nx, nz = -az, ax                          # body z axis
         dx, dz, dvx, dvz = qx - rx, qz - rz, qvx - rvx, qvz - rvz
         ks, cs = self.kscale, self.cscale
-        f_ax = -(ks * T.k_ax * (dx * ax + dz * az) + cs * T.c_ax * (dvx * ax + dvz * az))
+        f_ax = -(ks * T.k_ax * (dx * ax + dz * az)
+                 + cs * self.dscale * T.c_ax * (dvx * ax + dvz * az))
         f_sh = -(ks * T.k_sh * (dx * nx + dz * nz) + cs * T.c_sh * (dvx * nx + dvz * nz))
         gx, gz = f_ax * ax + f_sh * nx, f_ax * az + f_sh * nz
         bend = -(ks * T.kappa * (self.th[:, T.f] - self.th[:, T.r])
-                 + cs * T.c_b * (self.w[:, T.f] - self.w[:, T.r]))
+                 + cs * self.dscale * T.c_b * (self.w[:, T.f] - self.w[:, T.r]))
         self._scatter(fx, fz, tq, T, gx, gz, fox, foz, rox, roz, bend)
         on = self.on(self.t).astype(float)
         tau = np.array([e.get("actuator_lag_s", 0.0) for e in self.eff])
