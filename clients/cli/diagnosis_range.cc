@@ -70,7 +70,6 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
   std::vector<std::vector<double>> xs = {x0};
   std::vector<double> es = errors(xs);
   std::vector<double> acc_lo(k), acc_hi(k);
-  std::vector<bool> touch_lo(k), touch_hi(k);
   for (int round = 0; round < kRounds; ++round) {
     std::vector<std::vector<double>> batch;
     for (size_t p = 0; p < kPointsPerGene * k; ++p) {
@@ -103,11 +102,11 @@ FitRange SearchRange(const RangeSearch& s, const BatchErrors& errors) {
     bool grow = false;
     for (size_t i = 0; i < k; ++i) {
       const double w = b[i] - a[i], edge = 0.1 * w;
-      touch_lo[i] = a[i] > lo[i] && acc_lo[i] < a[i] + edge;
-      touch_hi[i] = b[i] < hi[i] && acc_hi[i] > b[i] - edge;
-      if (touch_lo[i]) a[i] = std::max(lo[i], a[i] - w);
-      if (touch_hi[i]) b[i] = std::min(hi[i], b[i] + w);
-      grow = grow || touch_lo[i] || touch_hi[i];
+      const bool touch_lo = a[i] > lo[i] && acc_lo[i] < a[i] + edge;
+      const bool touch_hi = b[i] < hi[i] && acc_hi[i] > b[i] - edge;
+      if (touch_lo) a[i] = std::max(lo[i], a[i] - w);
+      if (touch_hi) b[i] = std::min(hi[i], b[i] + w);
+      grow = grow || touch_lo || touch_hi;
     }
     if (round + 1 == kRounds) break;
     if (!grow && out.accepted >= kEnoughAccepted) break;
