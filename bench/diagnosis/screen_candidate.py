@@ -80,6 +80,7 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--json-out", default="")
     args = ap.parse_args()
+    args.suite = os.path.abspath(args.suite)  # the spec names the case files from it
     old = stored_results(args.stored.split(","))
     cases = [c for c in args.cases.split(",") if c] or sorted(old)
     rows = []
