@@ -21,7 +21,8 @@ without it the script is the benchmark (confusion matrix, magnitude errors, time
 
 --rescore A.json,B.json: no diagnosis; score the stored results of earlier runs (their
 --json-out files) against this suite's answers, e.g. to print one confusion matrix over
-runs made in parts. The verdicts are the stored ones.
+runs made in parts. The verdicts are the stored ones; a case in several files is scored by
+its last (a rerun replaces the earlier run).
 """
 import argparse
 import json
@@ -197,10 +198,13 @@ def main():
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
     if a.rescore:
-        results = []
+        by_case = {}  # a later file's result of a case replaces an earlier one's (a rerun)
         for path in a.rescore.split(","):
             with open(path) as f:
-                results += json.load(f)["results"]
+                for r in json.load(f)["results"]:
+                    by_case.pop(r["case"], None)
+                    by_case[r["case"]] = r
+        results = list(by_case.values())
         if a.cases:
             results = [r for r in results if r["case"] in cases]
     else:
