@@ -15,7 +15,8 @@ take, and whether it would be refitted. Cases where it would must be run again i
       [--cases a,b] [--json-out FILE]
 
 --stored: run_suite.py --json-out files, comma separated; a later file's case replaces an
-earlier one's. Its screening lists and `rule.top` give the leaders to compare with.
+earlier one's. Its screening lists and `refitted_singles` (else the default top, 3) give
+the leaders to compare with.
 """
 import argparse
 import json
@@ -34,17 +35,6 @@ def screen(bin_dir, suite, case, effect, workers):
     if "error" in out:
         sys.exit(f"screen_candidate: {case}: gaitforge diagnose failed: {out['error']}")
     return out
-
-
-def stored_results(paths):
-    by_case = {}
-    for p in paths:
-        with open(p) as f:
-            data = json.load(f)
-        for r in data["results"]:
-            if "case" in r and "screening" in r:
-                by_case[r["case"]] = r
-    return by_case
 
 
 def compare(new, old, effect):
@@ -81,7 +71,8 @@ def main():
     ap.add_argument("--json-out", default="")
     args = ap.parse_args()
     args.suite = os.path.abspath(args.suite)  # the spec names the case files from it
-    old = stored_results(args.stored.split(","))
+    old = {c: r for c, r in run_suite.load_results(args.stored.split(",")).items()
+           if "screening" in r}
     cases = [c for c in args.cases.split(",") if c] or sorted(old)
     rows = []
     print(f"{args.effect} screened on {len(cases)} cases (stored leaders: the `top` best)")

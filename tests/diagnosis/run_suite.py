@@ -77,6 +77,18 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
         return out
 
 
+def load_results(paths):
+    """Stored --json-out results by case, in order; a later file's result of a case
+    replaces an earlier one's (a rerun)."""
+    by_case = {}
+    for path in paths:
+        with open(path) as f:
+            for r in json.load(f)["results"]:
+                by_case.pop(r["case"], None)
+                by_case[r["case"]] = r
+    return by_case
+
+
 def _is_svg(path):
     try:
         with open(path) as f:
@@ -198,13 +210,7 @@ def main():
     cases = a.cases.split(",") if a.cases else sorted(os.listdir(os.path.join(a.suite, "cases")))
     t0 = time.monotonic()
     if a.rescore:
-        by_case = {}  # a later file's result of a case replaces an earlier one's (a rerun)
-        for path in a.rescore.split(","):
-            with open(path) as f:
-                for r in json.load(f)["results"]:
-                    by_case.pop(r["case"], None)
-                    by_case[r["case"]] = r
-        results = list(by_case.values())
+        results = list(load_results(a.rescore.split(",")).values())
         if a.cases:
             results = [r for r in results if r["case"] in cases]
     else:
