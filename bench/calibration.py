@@ -3,7 +3,7 @@
 recordings with 2 workers, and the parameter recovery error.
 
 Recordings are made by gaitforge-sim with known parameters (the truth), the study starts
-from caterpillar.yaml's values, CMA-ES fits all five; the script prints the fit beside the
+from robots/caterpillar/robot.yaml's values, CMA-ES fits all five; the script prints the fit beside the
 truth. Run from the repository root after ./scripts/build.sh:
     /usr/bin/python3 bench/calibration.py [--workers 2] [--evaluations 1200] [--json]
 """
@@ -26,7 +26,7 @@ GAITS = [
     "0.05,0.2,0.35,0.3,0.45,0.6,0.45,0.6,0.75,0.7,0.85,0.0,0.5",
     "0.0,0.1,0.2,0.5,0.6,0.7,0.3,0.4,0.5,0.8,0.9,0.0,0.7",
 ]
-# name: (truth, nominal in caterpillar.yaml, lo, hi)
+# name: (truth, nominal in robots/caterpillar/robot.yaml, lo, hi)
 PARAMS = {
     "actuators.force_n": (9.6, 8.8, 7.0, 11.0),
     "scale.link_stiffness": (1.15, 1.0, 0.7, 1.4),

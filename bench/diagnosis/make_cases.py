@@ -27,7 +27,7 @@ Writes (default --out tests/diagnosis):
   answers.sealed.json          the concealed effect per case; read it only after diagnosing
 
 Prints the cases, the files, and the distance per cycle of the clean rig trajectories:
-with the effect, without it (the null rig) and the diagnosed model (caterpillar.yaml).
+with the effect, without it (the null rig) and the diagnosed model (robots/caterpillar/robot.yaml).
 
 Run from the repository root (binaries in build/bin):
     /usr/bin/python3 bench/diagnosis/make_cases.py [--out DIR] [--sim PATH] [--rig SET] [--survey]

@@ -60,6 +60,8 @@ void SetDeadline(grpc::ClientContext& ctx, double seconds);
 // Prints the error and returns the matching exit code.
 int ReportRpcError(const grpc::Status& s, const std::string& what);
 std::string ToJson(const google::protobuf::Message& m);
+// `s` as a JSON string literal (quotes, backslashes and newlines escaped).
+std::string JsonQuote(const std::string& s);
 std::string StateName(v1::StudyState s);
 std::string FormatDuration(double seconds);
 // A progress bar on stderr, redrawn in place: "\r[#####.....] line" (frac in [0, 1]).
@@ -98,6 +100,8 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
 int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
                       const std::string& out_dir, const GlobalOptions& g, int top,
                       std::vector<std::string>* written);
+// `robots [NAME | FILE]`: the built-in robots, or one descriptor and what it offers (robots.cc).
+int CmdRobots(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
                  const std::string& sidecar);
 // Uploads every recording the spec names by file path (relative to the spec file) and puts

@@ -183,4 +183,17 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
   return last.state() == v1::STUDY_STATE_COMPLETED ? kOk : kStudyNotCompleted;
 }
 
+std::string JsonQuote(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    if (ch == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += ch;
+  }
+  return out + "\"";
+}
+
 }  // namespace gaitforge::cli

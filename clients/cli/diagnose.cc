@@ -62,19 +62,6 @@ std::string NumList(const std::vector<double>& v) {
   return "[" + absl::StrJoin(parts, ", ") + "]";
 }
 
-std::string Quote(const std::string& s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (ch == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += ch;
-  }
-  return out + "\"";
-}
-
 }  // namespace
 
 int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
@@ -342,10 +329,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     return WhyNotNamed(base, c, named.empty() ? nullptr : named[0], rule, others);
   };
   auto effect_json = [&](const Candidate& c) {
-    std::string j = absl::StrCat("{\"id\": ", Quote(c.label), ", \"params\": {");
+    std::string j = absl::StrCat("{\"id\": ", JsonQuote(c.label), ", \"params\": {");
     const auto range = ranges.find(&c);
     for (size_t i = 0; i < c.genes.size() && i < c.values.size(); ++i) {
-      absl::StrAppend(&j, i ? ", " : "", Quote(c.genes[i].name()), ": {\"value\": ",
+      absl::StrAppend(&j, i ? ", " : "", JsonQuote(c.genes[i].name()), ": {\"value\": ",
                       Num(c.values[i]), ", \"sd\": ", i < c.spread.size() ? Num(c.spread[i]) : "null");
       if (range != ranges.end() && std::isfinite(range->second.tolerance) &&
           i < range->second.params.size() && c.genes[i].name().rfind("nuisance.", 0) != 0) {
@@ -363,22 +350,22 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     absl::StrAppend(&j, ", \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
                     ", \"held_out_variants\": ", NumList(c.held_variants),
                     ", \"paired_t\": ", Num(PairedT(base.held_variants, c.held_variants)),
-                    ", \"at_bound\": [", absl::StrJoin(c.bound_params, ", ", [](std::string* o, const std::string& n) { o->append(Quote(n)); }), "]",
+                    ", \"at_bound\": [", absl::StrJoin(c.bound_params, ", ", [](std::string* o, const std::string& n) { o->append(JsonQuote(n)); }), "]",
                     ", \"delta_bic\": ",
                     Num(c.bic - base.bic));
     if (std::find(named.begin(), named.end(), &c) == named.end())
-      absl::StrAppend(&j, ", \"why_not\": ", Quote(why_not(c)));
+      absl::StrAppend(&j, ", \"why_not\": ", JsonQuote(why_not(c)));
     absl::StrAppend(&j, "}");
     return j;
   };
-  std::string json = absl::StrCat("{\"name\": ", Quote(d.name()), ", \"verdict\": ", Quote(verdict),
+  std::string json = absl::StrCat("{\"name\": ", JsonQuote(d.name()), ", \"verdict\": ", JsonQuote(verdict),
                                   ", \"effects\": [");
   for (size_t i = 0; i < named.size(); ++i) absl::StrAppend(&json, i ? ", " : "", effect_json(*named[i]));
   absl::StrAppend(&json, "], \"errors\": {\"baseline_train\": ", Num(base.train),
                   ", \"baseline_held_out\": ", Num(base.held),
                   ", \"baseline_held_out_variants\": ", NumList(base.held_variants),
                   ", \"noise_floor_held_out\": ", Num(floor_sd), ", \"weighting\": ",
-                  Quote(d.weighting()), ", \"training_weights\": ", NumList(weights),
+                  JsonQuote(d.weighting()), ", \"training_weights\": ", NumList(weights),
                   ", \"training_floors\": ", NumList(train_floors));
   if (!named.empty())
     absl::StrAppend(&json, ", \"train\": ", Num(named[0]->train), ", \"held_out\": ",
@@ -392,7 +379,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   absl::StrAppend(&json, "], \"screening\": [");
   k = 0;
   for (const auto& c : screened)
-    absl::StrAppend(&json, k++ ? ", " : "", "{\"id\": ", Quote(c.label), ", \"train\": ",
+    absl::StrAppend(&json, k++ ? ", " : "", "{\"id\": ", JsonQuote(c.label), ", \"train\": ",
                     Num(c.train), "}");
   std::string experiment;
   if (verdict == "ambiguous")
@@ -406,12 +393,12 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
       if (c.ok && std::isfinite(c.held) && (!shown || c.held < shown->held)) shown = &c;
   std::string overlay = "{\"baseline_eval\": ";
   if (std::isfinite(base.held_variants[0]))  // evaluated into baseline-held by ScoreHeldOut
-    absl::StrAppend(&overlay, Quote(dir + "/baseline-held/eval.json"));
+    absl::StrAppend(&overlay, JsonQuote(dir + "/baseline-held/eval.json"));
   else
     absl::StrAppend(&overlay, "null");
   if (shown && std::isfinite(HeldOutError(*shown, held_files, d, dir + "/explanation-held")))
-    absl::StrAppend(&overlay, ", \"other_eval\": ", Quote(dir + "/explanation-held/eval.json"),
-                    ", \"other\": ", Quote(named.empty() ? "closest rejected: " + shown->label
+    absl::StrAppend(&overlay, ", \"other_eval\": ", JsonQuote(dir + "/explanation-held/eval.json"),
+                    ", \"other\": ", JsonQuote(named.empty() ? "closest rejected: " + shown->label
                                                           : shown->label));
   absl::StrAppend(&overlay, "}");
   // The located readings against the model's own spread; for "none", what they mean.
@@ -422,8 +409,8 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   absl::StrAppend(&json, "], \"refitted_singles\": ", singles, ", \"reused_fits\": ", reused,
                   ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"located\": ", located, ", \"located_held_out\": ", located_held,
-                  ", \"experiment\": ", Quote(experiment), ", \"corrected_model\": ",
-                  Quote(corrected), ", \"compared_samples\": ", n, ", \"rule\": {\"margin\": ",
+                  ", \"experiment\": ", JsonQuote(experiment), ", \"corrected_model\": ",
+                  JsonQuote(corrected), ", \"compared_samples\": ", n, ", \"rule\": {\"margin\": ",
                   Num(rule.margin), ", \"held_out_gain\": ", Num(rule.held_out_gain),
                   ", \"paired_t\": ", Num(rule.paired_t), ", \"pair_gain\": ",
                   Num(rule.pair_gain), "}, \"overlay\": ", overlay);
@@ -439,7 +426,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
                  "(clients/python/gaitforge_plot.py diagnosis; needs python3-matplotlib)\n";
   absl::StrAppend(&json, ", \"figures\": [",
                   absl::StrJoin(figures, ", ", [](std::string* o, const std::string& f) {
-                    o->append(Quote(f));
+                    o->append(JsonQuote(f));
                   }),
                   "]}\n");
   std::ofstream(dir + "/diagnosis.json") << json;

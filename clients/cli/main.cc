@@ -31,6 +31,8 @@ const char* kCommands =
     "                  fit it and show the held-out error fall (docs/diagnosis.md)\n"
     "  recording add FILE.csv   upload a recording (+ FILE.csv.json sidecar); prints its hash\n"
     "  recording list           the stored recordings\n"
+    "  robots [NAME|FILE]       the built-in robots; one robot's parameters, genes and channels;\n"
+    "                           a descriptor file checked (docs/robots.md)\n"
     "  resume ID       continue a cancelled or interrupted study\n"
     "  cancel ID       stop a study; its results stay\n"
     "\n"
@@ -120,6 +122,7 @@ int main(int argc, char** argv) {
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
   if (cmd == "diagnose") return cli::CmdDiagnose(g, args, workers, threads, out_dir);
+  if (cmd == "robots") return cli::CmdRobots(g, args);
   if (cmd == "recording") return cli::CmdRecording(g, args, sidecar);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
   if (cmd == "trajectory")

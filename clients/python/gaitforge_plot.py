@@ -238,7 +238,7 @@ def calibration(args):
     before = [err(train_b), err(held_b)]
     after = [err(train_a), err(held_a)]
     x = range(len(labels))
-    ax.bar([i - 0.2 for i in x], [1000 * v for v in before], 0.4, label="before (caterpillar.yaml)")
+    ax.bar([i - 0.2 for i in x], [1000 * v for v in before], 0.4, label="before (the robot's descriptor)")
     ax.bar([i + 0.2 for i in x], [1000 * v for v in after], 0.4, label="after the fit")
     ax.set_xticks(list(x))
     ax.set_xticklabels(labels)

@@ -1,19 +1,30 @@
 #include "services/core/objective_catalog.h"
 
 #include "absl/strings/str_join.h"
+#include "robots/registry.h"
 
 namespace gaitforge::core {
 
+std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot) {
+  std::vector<GeneRange> space;
+  for (const auto& g : robot.controller.genes) space.push_back({g.name, g.lo, g.hi});
+  return space;
+}
+
 const std::vector<GeneRange>& CaterpillarGaitSpace() {
-  static const std::vector<GeneRange> space = {
-      {"a_T1", 0, 1}, {"a_T2", 0, 1}, {"a_T3", 0, 1}, {"a_B1", 0, 1}, {"a_B2", 0, 1},
-      {"a_B3", 0, 1}, {"d_T1", 0, 1}, {"d_T2", 0, 1}, {"d_T3", 0, 1}, {"d_B1", 0, 1},
-      {"d_B2", 0, 1}, {"d_B3", 0, 1}, {"T", 0.2, 2.0},
-  };
+  static const std::vector<GeneRange> space = GeneSpaceOf(robots::Robot("caterpillar"));
   return space;
 }
 
 namespace {
+
+// A catalog parameter whose range and default are the robot's parameter `name`, times
+// `factor` (1000 for a timestep in ms).
+ParamInfo FromRobot(const char* param, const char* name, std::string meaning,
+                    double factor = 1) {
+  const robots::Parameter& p = *robots::Robot("caterpillar").FindParameter(name);
+  return {param, p.lo * factor, p.hi * factor, p.value * factor, std::move(meaning), p.integer};
+}
 
 std::vector<ParamInfo> AnalyticParams() {
   return {
@@ -43,11 +54,13 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
       {"caterpillar.distance",
        "forward travel (m) per gait cycle of the lumped ODE caterpillar "
        "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
-       {{"cycles", 1, 50, 1, "measured gait cycles; fitness is the mean travel per cycle (m)",
-         true},
-        {"settle_cycles", 0, 20, 2, "gait cycles from rest before measuring", true},
-        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"}},
-       CaterpillarGaitSpace(), 13,
+       {FromRobot("cycles", "simulation.measured_cycles",
+                  "measured gait cycles; fitness is the mean travel per cycle (m)"),
+        FromRobot("settle_cycles", "simulation.settle_cycles",
+                  "gait cycles from rest before measuring"),
+        FromRobot("timestep_ms", "simulation.timestep_s",
+                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)},
+       CaterpillarGaitSpace(), static_cast<int>(CaterpillarGaitSpace().size()),
        // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
        {{"set", {}}}},
       {"caterpillar.calibration",
@@ -55,13 +68,14 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        "-(mean error over the recordings, weighted by the weights option when given) between "
        "recorded and simulated markers (m; relative for error = stats); genes are model "
        "parameters named in bounds, plus nuisance.time_offset_s",
-       {{"settle_cycles", 0, 20, 2,
-         "gait cycles from rest (simulated time) left out of the comparison", true},
+       {FromRobot("settle_cycles", "simulation.settle_cycles",
+                  "gait cycles from rest (simulated time) left out of the comparison"),
         {"max_shift_samples", 0, 1000, 10,
          "largest time shift searched, in samples (shape/stats: period bins, at most half a "
          "period)",
          true},
-        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default from caterpillar.yaml)"},
+        FromRobot("timestep_ms", "simulation.timestep_s",
+                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
         {"z_weight", 0, 100, 1,
          "error = stats: weight of the relative z-shape error against the distance error"},
         {"min_distance_m", 1e-6, 1, 1e-3,
@@ -72,7 +86,10 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
         {"metric", {"rmse", "mae"}},
         {"channels", {}},
         {"weights", {}}},
-       true},
+       true,
+       "caterpillar",
+       // recording time t corresponds to simulated time t + offset (s)
+       {"nuisance.time_offset_s"}},
   };
   return catalog;
 }

@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include "robots/descriptor.h"
+
 namespace gaitforge::core {
 
 struct GeneRange {
@@ -35,10 +37,17 @@ struct ObjectiveInfo {
   std::vector<std::pair<std::string, std::vector<std::string>>> options;
   // Compares with recordings (objective.recordings must name at least one).
   bool needs_recordings = false;
+  // A calibration: the genes name calibratable parameters of this built-in robot
+  // (robots/<name>/robot.yaml) or one of `nuisance`; empty for other objectives.
+  std::string calibrates;
+  // Genes that are parameters of the comparison, not of the model.
+  std::vector<std::string> nuisance;
 };
 
-// The 13-gene caterpillar gait of ../shared/robots/caterpillar.md: activation and
-// deactivation phases of T1 T2 T3 B1 B2 B3 in [0, 1), then the period T in [0.2, 2.0] s.
+// A robot's gene space: its controller's genes (robots/controllers.h).
+std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot);
+// The built-in caterpillar's (robots/caterpillar/robot.yaml): activation and deactivation
+// phases of T1 T2 T3 B1 B2 B3 in [0, 1), then the period T in [0.2, 2.0] s; 13 genes.
 const std::vector<GeneRange>& CaterpillarGaitSpace();
 
 const std::vector<ObjectiveInfo>& ObjectiveCatalog();

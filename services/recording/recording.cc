@@ -13,25 +13,31 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "robots/registry.h"
 #include "services/recording/recording_internal.h"
 
 namespace gaitforge::recording {
 
 namespace internal {
 
+// The robots a recording may describe: the built-in descriptors (robots/registry.h), whose
+// sensors give the channels and whose controller gives the genes of a "gait" command.
 const RobotInfo* FindRobot(std::string_view name) {
   static const std::vector<RobotInfo>* robots = [] {
     auto* v = new std::vector<RobotInfo>;
-    RobotInfo cat;
-    cat.name = "caterpillar";
-    for (int i = 1; i <= 6; ++i)
-      for (const char* axis : {"x", "y", "z"})
-        cat.channels.push_back(absl::StrCat("m", i, ".", axis));
-    cat.gene_count = 13;
-    cat.gene_names = "a_T1..a_B3, d_T1..d_B3, T";
-    cat.markers = 6;
-    cat.marker_pitch_m = 0.032;  // ../shared/robots/caterpillar.md: rest spacing of centres
-    v->push_back(std::move(cat));
+    for (const std::string& n : robots::RobotNames()) {
+      const robots::RobotDescriptor& d = robots::Robot(n);
+      RobotInfo info;
+      info.name = d.name;
+      info.channels = d.Channels();
+      info.gene_count = static_cast<int>(d.controller.genes.size());
+      std::vector<std::string> genes;
+      for (const auto& g : d.controller.genes) genes.push_back(g.name);
+      info.gene_names = absl::StrJoin(genes, " ");
+      info.markers = d.MarkerCount();
+      info.marker_pitch_m = d.MarkerSpacing();
+      v->push_back(std::move(info));
+    }
     return v;
   }();
   for (const auto& r : *robots)
@@ -39,7 +45,7 @@ const RobotInfo* FindRobot(std::string_view name) {
   return nullptr;
 }
 
-std::string KnownRobots() { return "caterpillar"; }
+std::string KnownRobots() { return absl::StrJoin(robots::RobotNames(), ", "); }
 
 std::string UnitOf(std::string_view channel) {
   constexpr std::string_view kAngle = ".angle";

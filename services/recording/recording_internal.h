@@ -17,7 +17,7 @@ struct RobotInfo {
   std::string name;                   // "caterpillar"
   std::vector<std::string> channels;  // the CSV columns it may carry, besides "t"
   int gene_count = 0;                 // length of command.genes for kind "gait"
-  std::string gene_names;             // for messages: "a_T1..a_B3, d_T1..d_B3, T"
+  std::string gene_names;             // for messages: "a_T1 a_T2 ... T"
   // Markers m1..m<markers> from the rear to the front, `marker_pitch_m` apart along x at
   // rest (the canonical geometry); 0 markers: no frame check.
   int markers = 0;

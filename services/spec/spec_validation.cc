@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "robots/registry.h"
 #include "services/core/objective_catalog.h"
 
 namespace gaitforge::spec {
@@ -59,6 +60,26 @@ void ApplyDefaults(StudySpec* spec) {
 }
 
 namespace {
+
+// A calibration's genes must name the robot's calibratable parameters (or the objective's
+// nuisance parameters): a misspelt name would otherwise make every member invalid.
+void ValidateCalibrationGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
+                              std::vector<FieldError>& e) {
+  const robots::RobotDescriptor* robot = robots::FindRobot(info.calibrates);
+  if (robot == nullptr) return;
+  std::vector<std::string> known = robot->CalibratableNames();
+  known.insert(known.end(), info.nuisance.begin(), info.nuisance.end());
+  for (int i = 0; i < spec.bounds_size(); ++i) {
+    const std::string& name = spec.bounds(i).name();
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    e.push_back({absl::StrCat("bounds[", i, "].name"),
+                 absl::StrCat("'", name, "' is not a calibratable parameter of the ",
+                              robot->name, "; nearest: ",
+                              absl::StrJoin(robots::Nearest(name, known), ", "),
+                              " (all: docs/calibration.md, or robots/", robot->name,
+                              "/robot.yaml's parameters marked calibrate and its scales)")});
+  }
+}
 
 void ValidateCmaes(const StudySpec& spec, std::vector<FieldError>& e) {
   const auto& c = spec.cmaes();
@@ -209,6 +230,7 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
     for (int i = 0; i < spec.objective().held_out_size(); ++i)
       if (spec.objective().held_out(i).empty())
         add(absl::StrCat("objective.held_out[", i, "]"), "is empty");
+    if (!info->calibrates.empty()) ValidateCalibrationGenes(spec, *info, e);
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));

@@ -17,7 +17,7 @@
 using namespace gaitforge;
 
 int main(int argc, char** argv) {
-  std::string params_path = caterpillar::DefaultCaterpillarParamsPath();
+  std::string params_path;  // empty: the built-in robots/caterpillar/robot.yaml
   std::string genes_text, out, scales_text = "0.5,2,16", periods_text = "0.2,2.0,19";
   std::string set_text, recordings_text, out_dir, options_text = "error=shape", params_text;
   double rate = 100;
@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
       "  wave          travelling-wave gait over periods (--periods), JSON\n"
       "  calibration-eval  --recordings A.csv,B.csv [--set ...]: the calibration objective's\n"
       "                errors against recordings, and the simulated markers (--out-dir), JSON");
-  flags.Add("params", &params_path, "caterpillar parameter file (YAML/JSON)");
+  flags.Add("params", &params_path, "caterpillar descriptor file (a copy of robots/caterpillar/robot.yaml)");
   flags.Add("genes", &genes_text, "13 numbers a_T1..a_B3 d_T1..d_B3 T, comma separated");
   flags.Add("out", &out, "trajectory: CSV file to write");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz (1..10000)");
@@ -64,7 +64,10 @@ int main(int argc, char** argv) {
                  "--threads in [1, 256]\n";
     return 2;
   }
-  auto params = caterpillar::LoadCaterpillarParams(params_path);
+  auto params = params_path.empty()
+                    ? absl::StatusOr<caterpillar::CaterpillarParams>(
+                          caterpillar::DefaultCaterpillarParams())
+                    : caterpillar::LoadCaterpillarParams(params_path);
   if (!params.ok()) {
     std::cerr << "gaitforge-sim: " << params.status().message() << "\n";
     return 2;
@@ -161,7 +164,10 @@ int main(int argc, char** argv) {
       std::cerr << "gaitforge-sim: the simulation diverged: " << e.reason << "\n";
       return 1;
     }
-    if (auto s = simtool::WriteRecording(e.markers, out, params_path, *genes,
+    if (auto s = simtool::WriteRecording(e.markers, out,
+                                         params_path.empty() ? "robots/caterpillar/robot.yaml"
+                                                             : params_path,
+                                         *genes,
                                          "simulated by gaitforge-sim", *overrides);
         !s.ok()) {
       std::cerr << "gaitforge-sim: " << s.message() << "\n";

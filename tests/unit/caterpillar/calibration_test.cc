@@ -81,11 +81,12 @@ TEST(CalibrationParams, RejectsOutOfRangeUnknownAndNuisance) {
   // The stroke stop below the rest length.
   s = SetParam(p, "actuators.max_length_m", 0.04);
   EXPECT_FALSE(s.ok());
-  EXPECT_THAT(std::string(s.message()), HasSubstr("must exceed actuators.min_length_m"));
+  EXPECT_THAT(std::string(s.message()),
+              HasSubstr("relation 'actuators.max_length_m > actuators.min_length_m' fails"));
 
   s = SetParam(p, "actuators.forse_n", 1);
   EXPECT_FALSE(s.ok());
-  EXPECT_THAT(std::string(s.message()), HasSubstr("known: actuators.force_n"));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("nearest: actuators.force_n"));
   EXPECT_THAT(std::string(s.message()), HasSubstr("scale.link_stiffness"));
   EXPECT_THAT(std::string(s.message()), HasSubstr("nuisance.time_offset_s"));
   EXPECT_FALSE(SetParam(p, kTimeOffsetParam, 0.1).ok());

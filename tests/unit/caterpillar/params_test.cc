@@ -1,11 +1,16 @@
-// caterpillar.yaml: the installed file loads, and each kind of mistake in a copy is reported
-// with file, line, field, unit and allowed range.
+// The caterpillar's descriptor (robots/caterpillar/robot.yaml): the built-in one gives the
+// canonical model, and each kind of mistake in a copy is reported with file, line, field,
+// unit and allowed range.
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include <yaml-cpp/yaml.h>
+
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "robots/registry.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
 
 namespace gaitforge::caterpillar {
@@ -14,12 +19,7 @@ namespace {
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-std::string DefaultText() {
-  std::ifstream in(DefaultCaterpillarParamsPath());
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string DefaultText() { return std::string(robots::BuiltinText("caterpillar")); }
 
 // The text with the first occurrence of `from` replaced by `to`.
 std::string Edit(const std::string& from, const std::string& to) {
@@ -49,86 +49,99 @@ TEST(CaterpillarParams, InstalledFileHoldsTheCanonicalRobot) {
 }
 
 TEST(CaterpillarParams, OutOfRangeValueNamesFileLineFieldUnitAndRange) {
-  auto p = ParseCaterpillarParams(Edit("mass_kg: 0.030", "mass_kg: -2"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("value: 0.030, range: [0.001, 1]",
+                                       "value: -2, range: [0.001, 1]"), "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()),
-              AllOf(HasSubstr("copy.yaml:" + std::to_string(LineOf("mass_kg: 0.030"))),
+              AllOf(HasSubstr("copy.yaml:" + std::to_string(LineOf("mass_kg:")) + ":"),
                     HasSubstr("lumps.mass_kg = -2 kg"), HasSubstr("[0.001, 1] kg")));
 }
 
 TEST(CaterpillarParams, NonNumberIsRejected) {
-  auto p = ParseCaterpillarParams(Edit("force_n: 8.8", "force_n: strong"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("value: 8.8", "value: strong"), "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()),
-              AllOf(HasSubstr("actuators.force_n must be a number"), HasSubstr("[0, 100] N")));
+              AllOf(HasSubstr("actuators.force_n.value: must be a finite number"),
+                    HasSubstr("'strong'")));
 }
 
 TEST(CaterpillarParams, MissingFieldIsNamedWithUnitAndRange) {
-  auto p = ParseCaterpillarParams(Edit("  timestep_s: 0.001", "  # gone"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("    timestep_s:", "    # gone"), "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()),
-              AllOf(HasSubstr("missing field simulation.timestep_s"), HasSubstr("[5e-05, 0.002] s")));
+              AllOf(HasSubstr("copy.yaml"), HasSubstr("missing parameter simulation.timestep_s")));
 }
 
 TEST(CaterpillarParams, UnknownFieldIsAnError) {
-  auto p = ParseCaterpillarParams(Edit("mass_kg: 0.030", "mas_kg: 0.030"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("size_y_m:", "size_yy_m:"), "copy.yaml");
   ASSERT_FALSE(p.ok());
-  EXPECT_THAT(std::string(p.status().message()), HasSubstr("unknown field lumps.mas_kg"));
+  EXPECT_THAT(std::string(p.status().message()),
+              AllOf(HasSubstr("copy.yaml:" + std::to_string(LineOf("size_y_m:")) + ":"),
+                    HasSubstr("lumps.size_yy_m: the caterpillar model has no such parameter")));
 }
 
 TEST(CaterpillarParams, WholeNumberFieldsRejectFractions) {
-  auto p = ParseCaterpillarParams(Edit("settle_cycles: 2", "settle_cycles: 2.5"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("{value: 2, range: [0, 20]", "{value: 2.5, range: [0, 20]"),
+                                  "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()),
               AllOf(HasSubstr("simulation.settle_cycles = 2.5 cycles"), HasSubstr("whole number")));
 }
 
 TEST(CaterpillarParams, FrictionIsInfiniteOrACoefficient) {
-  auto finite = ParseCaterpillarParams(Edit("friction: infinite", "friction: 0.8"), "copy.yaml");
+  auto finite = ParseCaterpillarParams(Edit("value: infinite", "value: 0.8"), "copy.yaml");
   ASSERT_TRUE(finite.ok()) << finite.status();
   EXPECT_FALSE(finite->ground.infinite_friction);
   EXPECT_EQ(finite->ground.friction_coefficient, 0.8);
-  auto bad = ParseCaterpillarParams(Edit("friction: infinite", "friction: sticky"), "copy.yaml");
+  auto bad = ParseCaterpillarParams(Edit("value: infinite", "value: sticky"), "copy.yaml");
   ASSERT_FALSE(bad.ok());
   EXPECT_THAT(std::string(bad.status().message()),
-              AllOf(HasSubstr("ground.friction = sticky"), HasSubstr("\"infinite\"")));
+              AllOf(HasSubstr("ground.friction_coefficient.value"),
+                    HasSubstr("a number or infinite"), HasSubstr("'sticky'")));
 }
 
 TEST(CaterpillarParams, InconsistentStrokeIsRejected) {
-  auto p = ParseCaterpillarParams(Edit("spacing_m: 0.032", "spacing_m: 0.050"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("value: 0.032", "value: 0.050"), "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()), HasSubstr("rest actuator length"));
 }
 
+TEST(CaterpillarParams, EveryDescriptorNumberReachesTheModel) {
+  // Each parameter of the built-in descriptor is a field of the model with its value.
+  const CaterpillarParams& p = DefaultCaterpillarParams();
+  for (const auto& param : CaterpillarDescriptor().parameters) {
+    auto v = GetField(p, param.name);
+    ASSERT_TRUE(v.ok()) << v.status();
+    EXPECT_EQ(*v, param.value) << param.name;
+  }
+}
+
+TEST(CaterpillarParams, ADescriptorOfAnotherModelIsRefused) {
+  std::string t = DefaultText();
+  t.replace(t.find("model: caterpillar"), 18, "model: arm");
+  auto p = ParseCaterpillarParams(t, "copy.yaml");
+  ASSERT_FALSE(p.ok());
+  EXPECT_THAT(std::string(p.status().message()), HasSubstr("not the caterpillar model"));
+}
+
 TEST(CaterpillarParams, JsonTextIsAccepted) {
-  const CaterpillarParams& d = DefaultCaterpillarParams();
-  std::ostringstream j;
-  j.precision(17);
-  j << R"({"format": "gaitforge.caterpillar.v1",
-    "lumps": {"mass_kg": 0.03, "size_x_m": 0.03, "size_y_m": 0.04, "size_z_m": 0.025,
-              "spacing_m": 0.032},
-    "links": {"flexure": {"axial_stiffness_n_per_m": 1040, "bending_stiffness_nm_per_rad": 0.12},
-              "segment": {"axial_stiffness_n_per_m": 446, "bending_stiffness_nm_per_rad": 0.07},
-              "axial_damping_ratio": 1, "bending_damping_ratio": 1},
-    "actuators": {"force_n": 8.8, "return_spring_n_per_m": 63, "min_length_m": 0.051,
-                  "max_length_m": 0.062, "rear_attach_x_m": -0.0095, "front_attach_x_m": 0.0095,
-                  "top_attach_z_m": 0.0125, "bottom_attach_z_m": -0.008, "stop_erp": 0.8,
-                  "stop_cfm": 1e-5, "overrun_tolerance_m": 0.002},
-    "ground": {"friction": "infinite", "contact_erp": 0.2, "contact_cfm": 1e-5},
-    "markers": {"offset_x_m": 0, "offset_z_m": 0.0125},
-    "simulation": {"gravity_m_per_s2": 9.81, "timestep_s": 0.001, "settle_cycles": 2,
-                   "measured_cycles": 1, "solver_erp": 0.2, "solver_cfm": 1e-10,
-                   "max_speed_m_per_s": 20, "max_excursion_m": 5}})";
-  auto p = ParseCaterpillarParams(j.str(), "inline.json");
+  // The built-in descriptor re-emitted as JSON (every scalar double-quoted, flow style).
+  YAML::Emitter json;
+  json.SetMapFormat(YAML::Flow);
+  json.SetSeqFormat(YAML::Flow);
+  json.SetStringFormat(YAML::DoubleQuoted);
+  json << YAML::Load(DefaultText());
+  ASSERT_EQ(json.c_str()[0], '{');
+  auto p = ParseCaterpillarParams(json.c_str(), "inline.json");
   ASSERT_TRUE(p.ok()) << p.status();
-  EXPECT_EQ(p->actuators.force_n, d.actuators.force_n);
-  EXPECT_EQ(p->simulation.timestep_s, d.simulation.timestep_s);
+  EXPECT_EQ(p->actuators.force_n, DefaultCaterpillarParams().actuators.force_n);
+  EXPECT_EQ(p->simulation.timestep_s, DefaultCaterpillarParams().simulation.timestep_s);
 }
 
 TEST(CaterpillarParams, MissingFileIsNotFound) {
-  auto p = LoadCaterpillarParams("/nonexistent/caterpillar.yaml");
+  auto p = LoadCaterpillarParams("/nonexistent/robot.yaml");
   ASSERT_FALSE(p.ok());
-  EXPECT_THAT(std::string(p.status().message()), HasSubstr("/nonexistent/caterpillar.yaml"));
+  EXPECT_THAT(std::string(p.status().message()), HasSubstr("/nonexistent/robot.yaml"));
 }
 
 }  // namespace

@@ -400,7 +400,7 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"WrongGeneCount", kCsv,
                   Side(kRobot + "  \"command\": {\"kind\": \"gait\", \"genes\": [1, 2]}"),
                   "rec.csv.json:3:40: key 'command.genes': the caterpillar takes 13 genes "
-                  "(a_T1..a_B3, d_T1..d_B3, T), got 2"},
+                  "(a_T1 a_T2 a_T3 a_B1 a_B2 a_B3 d_T1 d_T2 d_T3 d_B1 d_B2 d_B3 T), got 2"},
         ErrorCase{"GeneNotNumber", kCsv,
                   Side(kRobot + "  \"command\": {\"kind\": \"gait\", \"genes\": [1, \"x\"]}"),
                   "rec.csv.json:3:44: key 'command.genes[1]': expected a number, got the "

@@ -1,9 +1,12 @@
 #pragma once
 // Every number of the lumped caterpillar model (../shared/robots/caterpillar.md), as read
-// from caterpillar.yaml. SI units throughout; the file documents each field and its range.
+// from its descriptor robots/caterpillar/robot.yaml, which holds each value with its unit
+// and range (docs/robots.md). SI units throughout.
 #include <string>
+#include <string_view>
 
 #include "absl/status/statusor.h"
+#include "robots/descriptor.h"
 
 namespace gaitforge::caterpillar {
 
@@ -51,9 +54,9 @@ struct CaterpillarParams {
     double max_excursion_m = 0;
   } simulation;
   // Candidate physical effects beyond the paper's model (issue 8; the catalog with their
-  // meaning and fit ranges: workers/effects/effects.h). Not read from caterpillar.yaml:
-  // they start at zero, which is OFF and leaves every result bit-identical to the model
-  // without them; calibration sets them by name (param_overrides.h, "effect.*").
+  // meaning and fit ranges: workers/effects/effects.h). The descriptor's effect.* values
+  // are zero, which is OFF and leaves every result bit-identical to the model without
+  // them; calibration sets them by name (param_overrides.h, "effect.*").
   struct Effects {
     // A constant force pulling the rear lump (lump 1) backwards (-x), at its centre: the
     // pneumatic hoses trailing behind the robot (paper 000). N, >= 0.
@@ -108,18 +111,24 @@ struct CaterpillarParams {
   const LinkStiffness& Link(int i) const { return i % 2 == 1 ? links.flexure : links.segment; }
 };
 
-// Parses YAML or JSON text (yaml-cpp reads both). `source` names the text in errors.
-// Every field is required, unknown fields are errors, and each number must lie in its
-// range; the error names source, line, field, unit and range:
-//   "caterpillar.yaml:10: lumps.mass_kg = -1 kg is outside [0.001, 1] kg".
+// The model from a descriptor whose model is "caterpillar": every parameter of the descriptor
+// must be a field of the model and every field must be in the descriptor.
+absl::StatusOr<CaterpillarParams> CaterpillarParamsFrom(const robots::RobotDescriptor& d);
+// A descriptor file's text (YAML or JSON), checked as robots::ParseDescriptor does: errors
+// name source:line:column, the field, its unit and range:
+//   "copy.yaml:13:20: lumps.mass_kg = -1 kg is outside [0.001, 1] kg".
 absl::StatusOr<CaterpillarParams> ParseCaterpillarParams(const std::string& text,
                                                          const std::string& source);
 absl::StatusOr<CaterpillarParams> LoadCaterpillarParams(const std::string& path);
 
-// The installed caterpillar.yaml (GAITFORGE_CATERPILLAR_PARAMS), read once. Throws
-// std::runtime_error when that file is missing or invalid: a broken installation.
+// The built-in caterpillar (robots/caterpillar/robot.yaml, embedded at build time).
+const robots::RobotDescriptor& CaterpillarDescriptor();
+// Its model, built once. Throws std::runtime_error if the built-in is broken.
 const CaterpillarParams& DefaultCaterpillarParams();
-// Its path.
-const char* DefaultCaterpillarParamsPath();
+
+// The field of `p` that the descriptor parameter `name` sets (ground.friction_coefficient is
+// infinite for the no-slip ground); NotFound when the model has no such field.
+absl::StatusOr<double> GetField(const CaterpillarParams& p, std::string_view name);
+absl::Status SetField(CaterpillarParams& p, std::string_view name, double value);
 
 }  // namespace gaitforge::caterpillar

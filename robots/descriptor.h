@@ -1,0 +1,119 @@
+#pragma once
+// A robot as data (docs/robots.md): everything a robot is and offers, each fact written once,
+// read from robots/<name>/robot.yaml by ParseDescriptor (descriptor_parser.h). This is the
+// compiled, read-only form that the rest of gaitforge reads: the parameters with their
+// units, ranges and nominal values, the relations between them, the controller and its gene
+// space, and the sensors that become recording channels.
+//
+// Free of ODE, gRPC, Protobuf and SQLite: at the bottom of the dependency graph.
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/status.h"
+
+namespace gaitforge::robots {
+
+// Where a value was written: file, 1-based line and column (0 when unknown).
+struct Mark {
+  std::string source;
+  int line = 0;
+  int column = 0;
+  // "robot.yaml:12:5", or just the source when the line is unknown.
+  std::string ToString() const;
+};
+
+// One number of the robot.
+struct Parameter {
+  std::string name;   // dotted, e.g. "lumps.mass_kg"
+  double value = 0;   // nominal; +infinity only where `infinite` is set
+  double lo = 0, hi = 0;  // closed range of finite values
+  std::string unit;   // "" when dimensionless
+  std::string doc;
+  bool integer = false;       // whole numbers only
+  bool calibratable = false;  // a calibration study may set it by name
+  std::string infinite;       // non-empty: the value may be infinite, which means this
+  Mark mark;                  // where its value is written
+
+  // "[0.001, 1] kg" (with " or infinite" where allowed).
+  std::string RangeText() const;
+  // "" when `v` is allowed; otherwise "NAME = V UNIT is outside RANGE".
+  std::string Check(double v) const;
+};
+
+// A factor that multiplies several parameters at once ("scale.link_stiffness").
+struct Scale {
+  std::string name;  // with its "scale." prefix
+  std::string doc;
+  std::vector<std::string> multiplies;  // parameter names
+};
+
+// A linear relation between parameters that must hold: sum(lhs) OP sum(rhs), each side a
+// signed sum of parameter names, OP one of < <= > >=.
+struct Relation {
+  struct Term {
+    double sign = 1;
+    std::string name;
+  };
+  std::vector<Term> lhs, rhs;
+  std::string op;    // "<", "<=", ">", ">="
+  std::string text;  // as written
+  std::string why;   // what it protects, for messages
+  Mark mark;
+};
+
+struct Gene {
+  std::string name;
+  double lo = 0, hi = 0;
+};
+
+// The robot's controller: its kind (robots/controllers.h) and what the kind needs.
+struct Controller {
+  std::string kind;                    // e.g. "phase_onoff"
+  std::vector<std::string> actuators;  // the actuators it drives, in gene order
+  double period_lo = 0, period_hi = 0; // s
+  std::vector<Gene> genes;             // derived from the kind; the gene space
+};
+
+// A sensor group, which becomes recording channels.
+struct Sensor {
+  std::string kind;                 // "marker" (a point's position) or "joint_angle"
+  std::vector<std::string> names;   // markers rear to front, or joint names
+  std::vector<std::string> axes;    // marker: a subset of x, y, z
+  std::string spacing;              // marker: parameter with their rest spacing along x
+};
+
+struct RobotDescriptor {
+  std::string name;     // "caterpillar"
+  std::string summary;
+  std::string paper;    // the paper it follows (../shared/papers/), may be empty
+  std::string model;    // the model kind that simulates it (workers/)
+  std::string source;   // the file it was read from, for messages
+  std::vector<Parameter> parameters;
+  std::vector<Scale> scales;
+  std::vector<Relation> relations;
+  Controller controller;
+  std::vector<Sensor> sensors;
+
+  const Parameter* FindParameter(std::string_view name) const;
+  const Scale* FindScale(std::string_view name) const;
+  // The parameter's nominal value; throws std::out_of_range when the robot lacks it.
+  double Value(std::string_view name) const;
+  // Names a calibration may set: calibratable parameters in file order, then the scales.
+  std::vector<std::string> CalibratableNames() const;
+  // The recording channels besides "t": "m1.x", ..., "knee_l.angle", in sensor order.
+  std::vector<std::string> Channels() const;
+  // Markers (rear to front) and their rest spacing (m); 0 and 0 when it has none.
+  int MarkerCount() const;
+  double MarkerSpacing() const;
+  // Checks every relation with parameter values from `value_of`; the error names the
+  // relation, its two sides' values and why it must hold.
+  absl::Status CheckRelations(const std::function<double(const std::string&)>& value_of) const;
+};
+
+// The up to three names of `known` nearest to `name` (edit distance), for "did you mean".
+std::vector<std::string> Nearest(std::string_view name, const std::vector<std::string>& known,
+                                 size_t count = 3);
+
+}  // namespace gaitforge::robots

@@ -1,0 +1,247 @@
+#include "robots/descriptor_parser.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "robots/controllers.h"
+#include "robots/relations.h"
+#include "robots/yaml_fields.h"
+
+namespace gaitforge::robots {
+namespace {
+
+using Status = absl::Status;
+
+Status ParseParameter(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                      RobotDescriptor& d) {
+  if (Status s = f.CheckMap(node, path,
+                            {"value", "range", "unit", "doc", "integer", "calibrate", "infinite"});
+      !s.ok())
+    return s;
+  Parameter p;
+  p.name = path;
+  if (Status s = f.Range(node["range"], path + ".range", p.lo, p.hi); !s.ok()) return s;
+  if (node["unit"]) {
+    auto u = f.String(node["unit"], path + ".unit");
+    if (!u.ok()) return u.status();
+    p.unit = *u;
+  }
+  for (auto [key, out] : {std::pair{"doc", &p.doc}, std::pair{"infinite", &p.infinite}}) {
+    if (!node[key]) continue;
+    auto t = f.String(node[key], JoinPath(path, key));
+    if (!t.ok()) return t.status();
+    *out = *t;
+  }
+  for (auto [key, out] : {std::pair{"integer", &p.integer}, std::pair{"calibrate", &p.calibratable}}) {
+    if (!node[key]) continue;
+    auto b = f.Bool(node[key], JoinPath(path, key));
+    if (!b.ok()) return b.status();
+    *out = *b;
+  }
+  auto v = f.Number(node["value"], path + ".value", !p.infinite.empty());
+  if (!v.ok()) return v.status();
+  p.value = *v;
+  p.mark = f.MarkOf(node["value"]);
+  if (std::string bad = p.Check(p.value); !bad.empty()) return f.Error(node["value"], "", bad);
+  d.parameters.push_back(std::move(p));
+  return absl::OkStatus();
+}
+
+// A group is a mapping of groups and parameters; a parameter is a mapping with "value".
+Status ParseParameters(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                       RobotDescriptor& d) {
+  if (Status s = f.CheckNoDuplicates(node, path); !s.ok()) return s;
+  for (const auto& kv : node) {
+    const std::string child = JoinPath(path, kv.first.Scalar());
+    if (!kv.second.IsMap()) {
+      return f.Error(kv.second, child,
+                     "must be a parameter {value, range, unit, doc} or a group of them");
+    }
+    Status s = kv.second["value"] ? ParseParameter(f, kv.second, child, d)
+                                  : ParseParameters(f, kv.second, child, d);
+    if (!s.ok()) return s;
+  }
+  return absl::OkStatus();
+}
+
+// Every parameter name in `names` must exist; `path` is where the list is.
+Status CheckNames(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                  const std::vector<std::string>& names, const RobotDescriptor& d) {
+  std::vector<std::string> known;
+  for (const auto& p : d.parameters) known.push_back(p.name);
+  for (const auto& n : names) {
+    if (d.FindParameter(n) != nullptr) continue;
+    return f.Error(node, path,
+                   absl::StrCat("'", n, "' is not a parameter of this robot; nearest: ",
+                                absl::StrJoin(Nearest(n, known), ", ")));
+  }
+  return absl::OkStatus();
+}
+
+Status ParseScales(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
+  if (Status s = f.CheckNoDuplicates(node, "scales"); !s.ok()) return s;
+  for (const auto& kv : node) {
+    const std::string path = JoinPath("scales", kv.first.Scalar());
+    if (Status s = f.CheckMap(kv.second, path, {"doc", "multiplies"}); !s.ok()) return s;
+    Scale sc;
+    sc.name = "scale." + kv.first.Scalar();
+    if (kv.second["doc"]) {
+      auto doc = f.String(kv.second["doc"], path + ".doc");
+      if (!doc.ok()) return doc.status();
+      sc.doc = *doc;
+    }
+    auto m = f.StringList(kv.second["multiplies"], path + ".multiplies");
+    if (!m.ok()) return m.status();
+    if (Status s = CheckNames(f, kv.second["multiplies"], path + ".multiplies", *m, d); !s.ok())
+      return s;
+    sc.multiplies = *m;
+    d.scales.push_back(std::move(sc));
+  }
+  return absl::OkStatus();
+}
+
+Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
+  if (Status s = f.CheckMap(node, "controller", {"kind", "actuators", "period_s"}); !s.ok())
+    return s;
+  auto kind = f.String(node["kind"], "controller.kind");
+  if (!kind.ok()) return kind.status();
+  const ControllerKind* k = FindControllerKind(*kind);
+  if (k == nullptr) {
+    return f.Error(node["kind"], "controller.kind",
+                   absl::StrCat("unknown kind '", *kind,
+                                "' (known: ", absl::StrJoin(ControllerKindNames(), ", "), ")"));
+  }
+  Controller& c = d.controller;
+  c.kind = *kind;
+  auto acts = f.StringList(node["actuators"], "controller.actuators");
+  if (!acts.ok()) return acts.status();
+  c.actuators = *acts;
+  if (Status s = f.Range(node["period_s"], "controller.period_s", c.period_lo, c.period_hi);
+      !s.ok())
+    return s;
+  if (!(c.period_lo > 0)) return f.Error(node["period_s"], "controller.period_s", "must be > 0 s");
+  c.genes = k->genes(c);
+  return absl::OkStatus();
+}
+
+Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                   RobotDescriptor& d) {
+  if (Status s = f.CheckMap(node, path, {"kind", "names", "axes", "spacing"}); !s.ok()) return s;
+  Sensor s;
+  auto kind = f.String(node["kind"], path + ".kind");
+  if (!kind.ok()) return kind.status();
+  if (*kind != "marker" && *kind != "joint_angle")
+    return f.Error(node["kind"], path + ".kind", "must be marker or joint_angle");
+  s.kind = *kind;
+  auto names = f.StringList(node["names"], path + ".names");
+  if (!names.ok()) return names.status();
+  s.names = *names;
+  if (s.kind == "marker") {
+    auto axes = f.StringList(node["axes"], path + ".axes");
+    if (!axes.ok()) return axes.status();
+    for (const auto& a : *axes)
+      if (a != "x" && a != "y" && a != "z")
+        return f.Error(node["axes"], path + ".axes", "each axis must be x, y or z");
+    s.axes = *axes;
+    if (node["spacing"]) {
+      auto sp = f.String(node["spacing"], path + ".spacing");
+      if (!sp.ok()) return sp.status();
+      if (Status st = CheckNames(f, node["spacing"], path + ".spacing", {*sp}, d); !st.ok())
+        return st;
+      s.spacing = *sp;
+    }
+  } else if (node["axes"] || node["spacing"]) {
+    return f.Error(node, path, "axes and spacing belong to markers");
+  }
+  d.sensors.push_back(std::move(s));
+  return absl::OkStatus();
+}
+
+Status ParseSensors(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
+  if (!node.IsSequence()) return f.Error(node, "sensors", "must be a list of sensor groups");
+  for (size_t i = 0; i < node.size(); ++i) {
+    if (Status s = ParseSensor(f, node[i], absl::StrCat("sensors[", i, "]"), d); !s.ok()) return s;
+  }
+  std::vector<std::string> seen;
+  for (const auto& ch : d.Channels()) {
+    if (std::find(seen.begin(), seen.end(), ch) != seen.end())
+      return f.Error(node, "sensors", absl::StrCat("channel ", ch, " is declared twice"));
+    seen.push_back(ch);
+  }
+  return absl::OkStatus();
+}
+
+Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
+  auto format = f.String(root["format"], "format");
+  if (!format.ok()) return format.status();
+  if (*format != kDescriptorFormat)
+    return f.Error(root["format"], "format", absl::StrCat("must be \"", kDescriptorFormat, "\""));
+  for (auto [key, out] : {std::pair{"name", &d.name}, std::pair{"model", &d.model}}) {
+    auto v = f.String(root[key], key);
+    if (!v.ok()) return v.status();
+    *out = *v;
+  }
+  for (auto [key, out] : {std::pair{"summary", &d.summary}, std::pair{"paper", &d.paper}}) {
+    if (!root[key]) continue;
+    auto v = f.String(root[key], key);
+    if (!v.ok()) return v.status();
+    *out = *v;
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
+  YamlFields f(source);
+  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "parameters",
+                                       "scales", "relations", "controller", "sensors"});
+      !s.ok())
+    return s;
+  RobotDescriptor d;
+  d.source = source;
+  if (Status s = ParseHeader(f, root, d); !s.ok()) return s;
+  if (!root["parameters"].IsMap())
+    return f.Error(root["parameters"], "parameters", "missing (a mapping of the robot's numbers)");
+  if (Status s = ParseParameters(f, root["parameters"], "", d); !s.ok()) return s;
+  if (root["scales"])
+    if (Status s = ParseScales(f, root["scales"], d); !s.ok()) return s;
+  if (root["relations"])
+    if (Status s = ParseRelations(f, root["relations"], d); !s.ok()) return s;
+  if (!root["controller"])
+    return f.Error(root, "controller", "missing (the controller and its gene space)");
+  if (Status s = ParseController(f, root["controller"], d); !s.ok()) return s;
+  if (root["sensors"])
+    if (Status s = ParseSensors(f, root["sensors"], d); !s.ok()) return s;
+  if (Status s = d.CheckRelations([&d](const std::string& n) { return d.Value(n); }); !s.ok())
+    return s;
+  return d;
+}
+
+}  // namespace
+
+absl::StatusOr<RobotDescriptor> ParseDescriptor(const std::string& text,
+                                                const std::string& source) {
+  auto root = LoadYaml(text, source);
+  if (!root.ok()) return root.status();
+  try {
+    return FromYaml(*root, source);
+  } catch (const YAML::Exception& e) {  // a node of an unexpected kind somewhere
+    return absl::InvalidArgumentError(absl::StrCat(source, ":", e.mark.line + 1, ":",
+                                                   e.mark.column + 1, ": ", e.msg));
+  }
+}
+
+absl::StatusOr<RobotDescriptor> LoadDescriptor(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    return absl::InvalidArgumentError(absl::StrCat(
+        path, ": is a directory; give its robot.yaml (", path, "/robot.yaml)"));
+  std::ifstream in(path);
+  if (!in) return absl::NotFoundError(absl::StrCat(path, ": cannot open the robot descriptor"));
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseDescriptor(text.str(), path);
+}
+
+}  // namespace gaitforge::robots

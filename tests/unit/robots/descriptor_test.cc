@@ -1,0 +1,168 @@
+// Robot descriptors (robots/): the built-in robots parse and say what they offer, and each
+// kind of mistake in a descriptor is reported with file:line:column, field and allowed range.
+#include <filesystem>
+#include <string>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "robots/descriptor_parser.h"
+#include "robots/registry.h"
+
+namespace gaitforge::robots {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+// A small robot that exists only as this text.
+constexpr char kTwoBox[] = R"(format: gaitforge.robot.v1
+name: twobox
+model: generic
+parameters:
+  body:
+    mass_kg: {value: 0.1, range: [0.001, 1], unit: kg, calibrate: true}
+    length_m: {value: 0.05, range: [0.01, 1], unit: m}
+  hinge:
+    stiffness_nm_per_rad: {value: 0.5, range: [0, 10], unit: N m/rad, calibrate: true}
+scales:
+  stiffness: {doc: the hinge, multiplies: [hinge.stiffness_nm_per_rad]}
+relations:
+  - {check: "body.length_m >= body.mass_kg - body.length_m", why: "a test relation"}
+controller:
+  kind: phase_onoff
+  actuators: [servo]
+  period_s: [0.5, 2]
+sensors:
+  - {kind: joint_angle, names: [hinge]}
+  - {kind: marker, names: [tip], axes: [x, z]}
+)";
+
+std::string Edit(const std::string& from, const std::string& to) {
+  std::string t = kTwoBox;
+  const size_t at = t.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return t.replace(at, from.size(), to);
+}
+
+std::string ErrorOf(const std::string& text) {
+  auto d = ParseDescriptor(text, "twobox.yaml");
+  EXPECT_FALSE(d.ok());
+  return d.ok() ? "" : std::string(d.status().message());
+}
+
+TEST(Descriptor, EveryBuiltInRobotParses) {
+  ASSERT_FALSE(RobotNames().empty());
+  for (const std::string& name : RobotNames()) {
+    const RobotDescriptor* d = FindRobot(name);
+    ASSERT_NE(d, nullptr) << name;
+    EXPECT_EQ(d->name, name);
+    EXPECT_FALSE(d->controller.genes.empty()) << name;
+  }
+  EXPECT_EQ(FindRobot("no-such-robot"), nullptr);
+  EXPECT_THROW(Robot("no-such-robot"), std::out_of_range);
+}
+
+TEST(Descriptor, TheCaterpillarOffersItsGenesChannelsAndParameters) {
+  const RobotDescriptor& d = Robot("caterpillar");
+  ASSERT_EQ(d.controller.genes.size(), 13u);
+  EXPECT_EQ(d.controller.genes[0].name, "a_T1");
+  EXPECT_EQ(d.controller.genes[6].name, "d_T1");
+  EXPECT_EQ(d.controller.genes[12].name, "T");
+  EXPECT_EQ(d.controller.genes[12].lo, 0.2);
+  EXPECT_EQ(d.controller.genes[12].hi, 2.0);
+  const auto channels = d.Channels();
+  ASSERT_EQ(channels.size(), 18u);
+  EXPECT_EQ(channels[0], "m1.x");
+  EXPECT_EQ(channels[17], "m6.z");
+  EXPECT_EQ(d.MarkerCount(), 6);
+  EXPECT_EQ(d.MarkerSpacing(), 0.032);
+  EXPECT_EQ(d.Value("actuators.force_n"), 8.8);
+  EXPECT_TRUE(std::isinf(d.Value("ground.friction_coefficient")));
+  const auto names = d.CalibratableNames();
+  EXPECT_NE(std::find(names.begin(), names.end(), "scale.link_stiffness"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "lumps.size_x_m"), names.end());
+}
+
+TEST(Descriptor, ASmallRobotExistsAsText) {
+  auto d = ParseDescriptor(kTwoBox, "twobox.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  EXPECT_EQ(d->name, "twobox");
+  EXPECT_THAT(d->Channels(), ElementsAre("hinge.angle", "tip.x", "tip.z"));
+  ASSERT_EQ(d->controller.genes.size(), 3u);
+  EXPECT_EQ(d->controller.genes[2].lo, 0.5);
+  EXPECT_THAT(d->CalibratableNames(),
+              ElementsAre("body.mass_kg", "hinge.stiffness_nm_per_rad", "scale.stiffness"));
+  EXPECT_EQ(d->FindParameter("body.mass_kg")->mark.line, 6);
+}
+
+TEST(Descriptor, UnknownFieldNamesTheNearest) {
+  EXPECT_THAT(ErrorOf(Edit("calibrate: true}", "calibrat: true}")),
+              AllOf(HasSubstr("twobox.yaml:6:"), HasSubstr("body.mass_kg.calibrat: unknown field"),
+                    HasSubstr("did you mean calibrate")));
+}
+
+TEST(Descriptor, AKeyWrittenTwiceNamesBothLines) {
+  EXPECT_THAT(ErrorOf(Edit("  hinge:\n", "  body:\n")),
+              AllOf(HasSubstr("twobox.yaml:8:3: body: written twice"), HasSubstr("line 5")));
+}
+
+TEST(Descriptor, NegativeOrZeroMassGivesTheRange) {
+  EXPECT_THAT(ErrorOf(Edit("{value: 0.1,", "{value: -0.1,")),
+              AllOf(HasSubstr("twobox.yaml:6:22: body.mass_kg = -0.1 kg is outside [0.001, 1] kg")));
+  EXPECT_THAT(ErrorOf(Edit("{value: 0.1,", "{value: 0,")), HasSubstr("is outside [0.001, 1] kg"));
+}
+
+TEST(Descriptor, NanOrInfiniteSpringConstantIsRefused) {
+  EXPECT_THAT(ErrorOf(Edit("{value: 0.5,", "{value: .nan,")),
+              AllOf(HasSubstr("twobox.yaml:9:"),
+                    HasSubstr("hinge.stiffness_nm_per_rad.value: must be a finite number, got '.nan'")));
+  EXPECT_THAT(ErrorOf(Edit("{value: 0.5,", "{value: .inf,")), HasSubstr("must be a finite number"));
+}
+
+TEST(Descriptor, NamesOfMissingParametersAreRefused) {
+  EXPECT_THAT(ErrorOf(Edit("multiplies: [hinge.stiffness_nm_per_rad]", "multiplies: [hinge.stifness]")),
+              AllOf(HasSubstr("scales.stiffness.multiplies: 'hinge.stifness' is not a parameter"),
+                    HasSubstr("nearest: hinge.stiffness_nm_per_rad")));
+  EXPECT_THAT(ErrorOf(Edit("body.length_m >= body.mass_kg", "body.length_m >= body.masss")),
+              HasSubstr("relations[0]: 'body.masss' is not a parameter"));
+}
+
+TEST(Descriptor, ARelationThatFailsSaysWhy) {
+  EXPECT_THAT(ErrorOf(Edit("{value: 0.05, range: [0.01, 1]", "{value: 0.02, range: [0.01, 1]")),
+              AllOf(HasSubstr("twobox.yaml:13:"), HasSubstr("fails"), HasSubstr("a test relation")));
+  EXPECT_THAT(ErrorOf(Edit("body.length_m >= body.mass_kg", "body.length_m body.mass_kg")),
+              HasSubstr("must read 'A + B - C <= D'"));
+}
+
+TEST(Descriptor, ControllerAndSensorMistakes) {
+  EXPECT_THAT(ErrorOf(Edit("kind: phase_onoff", "kind: cpg9")),
+              AllOf(HasSubstr("controller.kind: unknown kind 'cpg9'"), HasSubstr("phase_onoff")));
+  EXPECT_THAT(ErrorOf(Edit("period_s: [0.5, 2]", "period_s: [2, 0.5]")),
+              HasSubstr("controller.period_s: lo must not exceed hi"));
+  EXPECT_THAT(ErrorOf(Edit("axes: [x, z]", "axes: [x, w]")), HasSubstr("each axis must be x, y or z"));
+  EXPECT_THAT(ErrorOf(Edit("{kind: marker, names: [tip], axes: [x, z]}", "{kind: joint_angle, names: [hinge]}")),
+              HasSubstr("channel hinge.angle is declared twice"));
+  EXPECT_THAT(ErrorOf(Edit("controller:\n  kind: phase_onoff\n  actuators: [servo]\n  period_s: [0.5, 2]\n", "")),
+              HasSubstr("controller: missing"));
+}
+
+TEST(Descriptor, WrongFormatSyntaxAndFilesAreNamed) {
+  EXPECT_THAT(ErrorOf(Edit("gaitforge.robot.v1", "gaitforge.robot.v9")),
+              HasSubstr("twobox.yaml:1:9: format: must be \"gaitforge.robot.v1\""));
+  EXPECT_THAT(ErrorOf(Edit("period_s: [0.5, 2]", "period_s: [0.5, 2")), HasSubstr("twobox.yaml:"));
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  auto d = LoadDescriptor(dir);
+  ASSERT_FALSE(d.ok());
+  EXPECT_THAT(std::string(d.status().message()), HasSubstr("is a directory"));
+  d = LoadDescriptor("/nonexistent/robot.yaml");
+  EXPECT_EQ(d.status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST(Descriptor, NearestRanksByEditDistance) {
+  EXPECT_THAT(Nearest("scale.link_stifness", {"scale.mass", "scale.link_stiffness", "lumps.mass_kg"}, 1),
+              ElementsAre("scale.link_stiffness"));
+}
+
+}  // namespace
+}  // namespace gaitforge::robots
