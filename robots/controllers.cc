@@ -9,9 +9,30 @@ std::vector<Gene> PhaseOnOffGenes(const Controller& c) {
   std::vector<Gene> genes;
   for (const char* prefix : {"a_", "d_"})
     for (const auto& a : c.actuators) genes.push_back({prefix + a, 0, 1});
-  genes.push_back({"T", c.period_lo, c.period_hi});
+  const auto& t = c.ranges.at("period_s");
+  genes.push_back({"T", t[0], t[1]});
   return genes;
 }
+
+double PhaseOnOffPeriod(const std::vector<double>& genes) { return genes.back(); }
+
+// A sine per actuator about an offset, all at one frequency f (paper 001): actuator j's
+// target is off_j + amp_j sin(2 pi (f t + phase_j)). Genes: f (Hz), then per actuator
+// amp_j (rad), off_j (rad) and phase_j (cycles, [0, 1)).
+std::vector<Gene> SineGenes(const Controller& c) {
+  const auto& f = c.ranges.at("frequency_hz");
+  const auto& amp = c.ranges.at("amplitude_rad");
+  const auto& off = c.ranges.at("offset_rad");
+  std::vector<Gene> genes = {{"f", f[0], f[1]}};
+  for (const auto& a : c.actuators) {
+    genes.push_back({"amp_" + a, amp[0], amp[1]});
+    genes.push_back({"off_" + a, off[0], off[1]});
+    genes.push_back({"phase_" + a, 0, 1});
+  }
+  return genes;
+}
+
+double SinePeriod(const std::vector<double>& genes) { return 1.0 / genes.front(); }
 
 }  // namespace
 
@@ -20,7 +41,15 @@ const std::vector<ControllerKind>& ControllerKinds() {
       {"phase_onoff",
        "on/off actuators switched by the phase of a periodic gait: per actuator an "
        "activation and a deactivation phase in [0, 1), then the period T (paper 000)",
-       &PhaseOnOffGenes},
+       {"period_s"},
+       &PhaseOnOffGenes,
+       &PhaseOnOffPeriod},
+      {"sine",
+       "a sine per actuator about an offset at one shared frequency: genes f, then per "
+       "actuator amp_, off_, phase_ (paper 001)",
+       {"frequency_hz", "amplitude_rad", "offset_rad"},
+       &SineGenes,
+       &SinePeriod},
   };
   return kinds;
 }

@@ -13,8 +13,12 @@ namespace gaitforge::robots {
 struct ControllerKind {
   std::string name;
   std::string doc;
-  // The gene space of a controller of this kind (its actuators and period already read).
+  // The ranges the descriptor must give (controller.<key>: [lo, hi]).
+  std::vector<std::string> range_keys;
+  // The gene space of a controller of this kind (its actuators and ranges already read).
   std::vector<Gene> (*genes)(const Controller&);
+  // The gait period (s) of a genotype of this kind.
+  double (*period_s)(const std::vector<double>& genes);
 };
 
 const std::vector<ControllerKind>& ControllerKinds();

@@ -81,6 +81,18 @@ const Scale* RobotDescriptor::FindScale(std::string_view n) const {
   return nullptr;
 }
 
+const Body* RobotDescriptor::FindBody(std::string_view n) const {
+  for (const auto& b : bodies)
+    if (b.name == n) return &b;
+  return nullptr;
+}
+
+const Joint* RobotDescriptor::FindJoint(std::string_view n) const {
+  for (const auto& j : joints)
+    if (j.name == n) return &j;
+  return nullptr;
+}
+
 double RobotDescriptor::Value(std::string_view n) const {
   const Parameter* p = FindParameter(n);
   if (p == nullptr) throw std::out_of_range(absl::StrCat(name, " has no parameter ", std::string(n)));

@@ -6,12 +6,16 @@
 // space, and the sensors that become recording channels.
 //
 // Free of ODE, gRPC, Protobuf and SQLite: at the bottom of the dependency graph.
+#include <array>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "absl/status/status.h"
+#include "robots/expr.h"
 
 namespace gaitforge::robots {
 
@@ -72,9 +76,16 @@ struct Gene {
 struct Controller {
   std::string kind;                    // e.g. "phase_onoff"
   std::vector<std::string> actuators;  // the actuators it drives, in gene order
-  double period_lo = 0, period_hi = 0; // s
+  // The kind's ranges by key (phase_onoff: period_s; sine: frequency_hz, amplitude_rad,
+  // offset_rad), each [lo, hi].
+  std::map<std::string, std::array<double, 2>> ranges;
   std::vector<Gene> genes;             // derived from the kind; the gene space
 };
+
+// The structure a generic model builds (model: generic; docs/robots.md, "Structure"). Every
+// number is an Expr of the parameters, so a calibration that changes a parameter changes
+// the body built from it.
+using Vec3Expr = std::array<Expr, 3>;
 
 // A sensor group, which becomes recording channels.
 struct Sensor {
@@ -82,6 +93,47 @@ struct Sensor {
   std::vector<std::string> names;   // markers rear to front, or joint names
   std::vector<std::string> axes;    // marker: a subset of x, y, z
   std::string spacing;              // marker: parameter with their rest spacing along x
+  // marker, generic model: the body each marker is on (parallel to names), and the point
+  // in that body's frame (m, default its centre).
+  std::vector<std::string> bodies;
+  std::optional<Vec3Expr> offset;
+};
+
+
+struct Body {
+  std::string name;
+  std::string shape;  // "box"
+  Vec3Expr size;      // m, full lengths along the body's x, y, z
+  Expr mass;          // kg, uniform density
+  Vec3Expr position;  // m, world frame, at the start
+  Mark mark;
+};
+
+struct Joint {
+  std::string name;
+  std::string type;             // "hinge"
+  std::string body1, body2;     // body names; body2 turns relative to body1
+  Vec3Expr anchor;              // m, world frame at the start
+  std::array<double, 3> axis{}; // unit vector, world frame at the start
+  std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad
+  std::optional<Expr> lo, hi;   // stops, rad
+  Mark mark;
+};
+
+struct Actuator {
+  std::string name;
+  std::string type;   // "servo": position control of a hinge
+  std::string joint;
+  // servo: speed command gain (1/s) on the angle error, speed limit (rad/s), torque limit
+  // (N m) and first-order lag of the commanded angle (s, 0 = none).
+  Expr gain, max_speed, max_torque, lag_s;
+  Mark mark;
+};
+
+// Ground contact: the plane z = 0 under every body.
+struct Ground {
+  Expr friction;  // Coulomb coefficient; its parameter may be infinite (no slip)
+  Expr erp, cfm;  // contact softness (ODE's ERP and CFM)
 };
 
 struct RobotDescriptor {
@@ -95,9 +147,15 @@ struct RobotDescriptor {
   std::vector<Relation> relations;
   Controller controller;
   std::vector<Sensor> sensors;
+  std::vector<Body> bodies;
+  std::vector<Joint> joints;
+  std::vector<Actuator> actuators;
+  std::optional<Ground> ground;
 
   const Parameter* FindParameter(std::string_view name) const;
   const Scale* FindScale(std::string_view name) const;
+  const Body* FindBody(std::string_view name) const;
+  const Joint* FindJoint(std::string_view name) const;
   // The parameter's nominal value; throws std::out_of_range when the robot lacks it.
   double Value(std::string_view name) const;
   // Names a calibration may set: calibratable parameters in file order, then the scales.

@@ -8,6 +8,7 @@
 #include "absl/strings/str_join.h"
 #include "robots/controllers.h"
 #include "robots/relations.h"
+#include "robots/structure_parser.h"
 #include "robots/yaml_fields.h"
 
 namespace gaitforge::robots {
@@ -104,8 +105,7 @@ Status ParseScales(const YamlFields& f, const YAML::Node& node, RobotDescriptor&
 }
 
 Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
-  if (Status s = f.CheckMap(node, "controller", {"kind", "actuators", "period_s"}); !s.ok())
-    return s;
+  if (!node.IsMap()) return f.Error(node, "controller", "expected a mapping");
   auto kind = f.String(node["kind"], "controller.kind");
   if (!kind.ok()) return kind.status();
   const ControllerKind* k = FindControllerKind(*kind);
@@ -114,22 +114,55 @@ Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescrip
                    absl::StrCat("unknown kind '", *kind,
                                 "' (known: ", absl::StrJoin(ControllerKindNames(), ", "), ")"));
   }
+  std::vector<std::string> allowed = {"kind", "actuators"};
+  allowed.insert(allowed.end(), k->range_keys.begin(), k->range_keys.end());
+  if (Status s = f.CheckMap(node, "controller", allowed); !s.ok()) return s;
   Controller& c = d.controller;
   c.kind = *kind;
   auto acts = f.StringList(node["actuators"], "controller.actuators");
   if (!acts.ok()) return acts.status();
   c.actuators = *acts;
-  if (Status s = f.Range(node["period_s"], "controller.period_s", c.period_lo, c.period_hi);
-      !s.ok())
-    return s;
-  if (!(c.period_lo > 0)) return f.Error(node["period_s"], "controller.period_s", "must be > 0 s");
+  for (const std::string& key : k->range_keys) {
+    const std::string path = "controller." + key;
+    std::array<double, 2> r{};
+    if (Status s = f.Range(node[key], path, r[0], r[1]); !s.ok()) return s;
+    if ((key == "period_s" || key == "frequency_hz") && !(r[0] > 0))
+      return f.Error(node[key], path, "must be > 0");
+    c.ranges[key] = r;
+  }
   c.genes = k->genes(c);
+  return absl::OkStatus();
+}
+
+// A generic robot's markers sit on bodies: `bodies` parallel to `names`, `offset` in the
+// body frame.
+Status ParseMarkerBodies(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                         const RobotDescriptor& d, Sensor& s) {
+  if (!node["bodies"]) {
+    if (node["offset"]) return f.Error(node["offset"], path + ".offset", "needs bodies");
+    return absl::OkStatus();
+  }
+  auto bodies = f.StringList(node["bodies"], path + ".bodies");
+  if (!bodies.ok()) return bodies.status();
+  if (bodies->size() != s.names.size())
+    return f.Error(node["bodies"], path + ".bodies", "must name one body per marker");
+  for (const auto& b : *bodies)
+    if (d.FindBody(b) == nullptr)
+      return f.Error(node["bodies"], path + ".bodies", absl::StrCat("no body named '", b, "'"));
+  s.bodies = *bodies;
+  if (node["offset"]) {
+    Vec3Expr offset;
+    if (Status st = ReadVec3(f, node["offset"], path + ".offset", d, offset); !st.ok()) return st;
+    s.offset = offset;
+  }
   return absl::OkStatus();
 }
 
 Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::string& path,
                    RobotDescriptor& d) {
-  if (Status s = f.CheckMap(node, path, {"kind", "names", "axes", "spacing"}); !s.ok()) return s;
+  if (Status s = f.CheckMap(node, path, {"kind", "names", "axes", "spacing", "bodies", "offset"});
+      !s.ok())
+    return s;
   Sensor s;
   auto kind = f.String(node["kind"], path + ".kind");
   if (!kind.ok()) return kind.status();
@@ -153,8 +186,13 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
         return st;
       s.spacing = *sp;
     }
-  } else if (node["axes"] || node["spacing"]) {
-    return f.Error(node, path, "axes and spacing belong to markers");
+    if (Status st = ParseMarkerBodies(f, node, path, d, s); !st.ok()) return st;
+  } else if (node["axes"] || node["spacing"] || node["bodies"] || node["offset"]) {
+    return f.Error(node, path, "axes, spacing, bodies and offset belong to markers");
+  } else {
+    for (const auto& n : s.names)
+      if (!d.joints.empty() && d.FindJoint(n) == nullptr)
+        return f.Error(node["names"], path + ".names", absl::StrCat("no joint named '", n, "'"));
   }
   d.sensors.push_back(std::move(s));
   return absl::OkStatus();
@@ -196,7 +234,8 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "parameters",
-                                       "scales", "relations", "controller", "sensors"});
+                                       "scales", "relations", "controller", "sensors", "bodies",
+                                       "joints", "actuators", "ground"});
       !s.ok())
     return s;
   RobotDescriptor d;
@@ -212,6 +251,7 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   if (!root["controller"])
     return f.Error(root, "controller", "missing (the controller and its gene space)");
   if (Status s = ParseController(f, root["controller"], d); !s.ok()) return s;
+  if (Status s = ParseStructure(f, root, d); !s.ok()) return s;
   if (root["sensors"])
     if (Status s = ParseSensors(f, root["sensors"], d); !s.ok()) return s;
   if (Status s = d.CheckRelations([&d](const std::string& n) { return d.Value(n); }); !s.ok())

@@ -1,6 +1,8 @@
 // Robot descriptors (robots/): the built-in robots parse and say what they offer, and each
 // kind of mistake in a descriptor is reported with file:line:column, field and allowed range.
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "gmock/gmock.h"
@@ -162,6 +164,75 @@ TEST(Descriptor, WrongFormatSyntaxAndFilesAreNamed) {
 TEST(Descriptor, NearestRanksByEditDistance) {
   EXPECT_THAT(Nearest("scale.link_stifness", {"scale.mass", "scale.link_stiffness", "lumps.mass_kg"}, 1),
               ElementsAre("scale.link_stiffness"));
+}
+
+}  // namespace
+}  // namespace gaitforge::robots
+
+namespace gaitforge::robots {
+namespace {
+
+// The structure sections, on the fixture robot (tests/fixtures/robots/twobox/robot.yaml).
+std::string Fixture() {
+  std::ifstream in(std::string(GAITFORGE_SOURCE_DIR) + "/tests/fixtures/robots/twobox/robot.yaml");
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string FixtureError(const std::string& from, const std::string& to) {
+  std::string t = Fixture();
+  const size_t at = t.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  t.replace(at, from.size(), to);
+  auto d = ParseDescriptor(t, "twobox.yaml");
+  EXPECT_FALSE(d.ok()) << from;
+  return d.ok() ? "" : std::string(d.status().message());
+}
+
+TEST(Structure, TheFixtureRobotParses) {
+  auto d = ParseDescriptor(Fixture(), "twobox.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  ASSERT_EQ(d->bodies.size(), 2u);
+  ASSERT_EQ(d->joints.size(), 1u);
+  ASSERT_EQ(d->actuators.size(), 1u);
+  const auto value = [&](const std::string& n) { return d->Value(n); };
+  EXPECT_DOUBLE_EQ(d->bodies[1].position[0].Eval(value), 0.03 + 0.006 + 0.02);
+  EXPECT_THAT(d->Channels(), ElementsAre("hinge.angle", "tail.x", "tail.z", "nose.x", "nose.z"));
+  ASSERT_EQ(d->controller.genes.size(), 4u);
+  EXPECT_EQ(d->controller.genes[1].name, "amp_servo");
+}
+
+TEST(Structure, NamesOfMissingPartsAreRefused) {
+  EXPECT_THAT(FixtureError("bodies: [rear, front]", "bodies: [rear, frnt]"),
+              AllOf(HasSubstr("joints[0].bodies[1]: no body named 'frnt'"),
+                    HasSubstr("bodies: rear, front")));
+  EXPECT_THAT(FixtureError("joint: hinge,", "joint: knee,"),
+              HasSubstr("actuators[0].joint: no joint named 'knee'"));
+  EXPECT_THAT(FixtureError("mass: rear.mass_kg", "mass: rear.mass_g"),
+              AllOf(HasSubstr("bodies[0].mass: 'rear.mass_g' is not a parameter"),
+                    HasSubstr("nearest: rear.mass_kg")));
+  EXPECT_THAT(FixtureError("names: [hinge]", "names: [knee]"), HasSubstr("no joint named 'knee'"));
+}
+
+TEST(Structure, GenesMustMatchTheActuators) {
+  EXPECT_THAT(FixtureError("actuators: [servo]", "actuators: [servo, wheel]"),
+              HasSubstr("controller.actuators: must name each declared actuator once (servo)"));
+}
+
+TEST(Structure, ExpressionsAndAxesAreChecked) {
+  EXPECT_THAT(FixtureError("position: [0, 0, 0.5*height_m]", "position: [0, 0, 0.5**height_m]"),
+              HasSubstr("is not a number, a parameter name or a sum of terms"));
+  EXPECT_THAT(FixtureError("axis: [0, 1, 0]", "axis: [0, 2, 0]"), HasSubstr("must be a unit vector"));
+  EXPECT_THAT(FixtureError("type: servo", "type: piston"), HasSubstr("must be servo"));
+}
+
+TEST(Expr, ParsesLinearSums) {
+  auto e = ParseExpr("0.5*a.b + c - 2 + d*3 - 1e-3");
+  ASSERT_TRUE(e.ok()) << e.status();
+  const double v = e->Eval([](const std::string& n) { return n == "a.b" ? 4.0 : n == "c" ? 1.0 : 2.0; });
+  EXPECT_DOUBLE_EQ(v, 0.5 * 4 + 1 - 2 + 2 * 3 - 1e-3);
+  EXPECT_FALSE(ParseExpr("").ok());
+  EXPECT_FALSE(ParseExpr("a b").ok());
+  EXPECT_FALSE(ParseExpr("3*").ok());
 }
 
 }  // namespace

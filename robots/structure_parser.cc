@@ -1,0 +1,225 @@
+#include "robots/structure_parser.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+
+namespace gaitforge::robots {
+namespace {
+
+using Status = absl::Status;
+
+std::vector<std::string> ParameterNames(const RobotDescriptor& d) {
+  std::vector<std::string> names;
+  for (const auto& p : d.parameters) names.push_back(p.name);
+  return names;
+}
+
+// A number, a parameter name or a linear expression of them; its names must exist.
+Status ReadExpr(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                const RobotDescriptor& d, Expr& out) {
+  if (!node.IsDefined() || !node.IsScalar())
+    return f.Error(node, path, "missing (a number, a parameter name or an expression)");
+  auto e = ParseExpr(node.Scalar());
+  if (!e.ok()) return f.Error(node, path, std::string(e.status().message()));
+  for (const auto& t : e->terms) {
+    if (d.FindParameter(t.name) != nullptr) continue;
+    return f.Error(node, path,
+                   absl::StrCat("'", t.name, "' is not a parameter of this robot; nearest: ",
+                                absl::StrJoin(Nearest(t.name, ParameterNames(d)), ", ")));
+  }
+  out = *e;
+  return absl::OkStatus();
+}
+
+Status ReadVec(const YamlFields& f, const YAML::Node& node, const std::string& path,
+               const RobotDescriptor& d, Vec3Expr& out) {
+  if (!node.IsDefined() || !node.IsSequence() || node.size() != 3)
+    return f.Error(node, path, "must be [x, y, z]");
+  for (size_t i = 0; i < 3; ++i)
+    if (Status s = ReadExpr(f, node[i], absl::StrCat(path, "[", i, "]"), d, out[i]); !s.ok())
+      return s;
+  return absl::OkStatus();
+}
+
+Status ReadOptional(const YamlFields& f, const YAML::Node& node, const std::string& key,
+                    const std::string& path, const RobotDescriptor& d, std::optional<Expr>& out) {
+  if (!node[key]) return absl::OkStatus();
+  Expr e;
+  if (Status s = ReadExpr(f, node[key], JoinPath(path, key), d, e); !s.ok()) return s;
+  out = e;
+  return absl::OkStatus();
+}
+
+Status CheckNewName(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                    const std::string& name, bool taken) {
+  if (taken) return f.Error(node, path, absl::StrCat("the name '", name, "' is used twice"));
+  return absl::OkStatus();
+}
+
+Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                 RobotDescriptor& d) {
+  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position"}); !s.ok())
+    return s;
+  Body b;
+  b.mark = f.MarkOf(n);
+  auto name = f.String(n["name"], path + ".name");
+  if (!name.ok()) return name.status();
+  b.name = *name;
+  if (Status s = CheckNewName(f, n["name"], path + ".name", b.name, d.FindBody(b.name)); !s.ok())
+    return s;
+  auto shape = f.String(n["shape"], path + ".shape");
+  if (!shape.ok()) return shape.status();
+  if (*shape != "box") return f.Error(n["shape"], path + ".shape", "must be box");
+  b.shape = *shape;
+  if (Status s = ReadVec(f, n["size"], path + ".size", d, b.size); !s.ok()) return s;
+  if (Status s = ReadExpr(f, n["mass"], path + ".mass", d, b.mass); !s.ok()) return s;
+  if (Status s = ReadVec(f, n["position"], path + ".position", d, b.position); !s.ok()) return s;
+  d.bodies.push_back(std::move(b));
+  return absl::OkStatus();
+}
+
+Status ReadBodyName(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                    const RobotDescriptor& d, std::string& out) {
+  auto name = f.String(node, path);
+  if (!name.ok()) return name.status();
+  if (d.FindBody(*name) == nullptr) {
+    std::vector<std::string> known;
+    for (const auto& b : d.bodies) known.push_back(b.name);
+    return f.Error(node, path, absl::StrCat("no body named '", *name, "' (bodies: ",
+                                            absl::StrJoin(known, ", "), ")"));
+  }
+  out = *name;
+  return absl::OkStatus();
+}
+
+Status ParseAxis(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                 std::array<double, 3>& axis) {
+  if (!node.IsDefined() || !node.IsSequence() || node.size() != 3)
+    return f.Error(node, path, "must be [x, y, z]");
+  double norm = 0;
+  for (size_t i = 0; i < 3; ++i) {
+    auto v = f.Number(node[i], absl::StrCat(path, "[", i, "]"));
+    if (!v.ok()) return v.status();
+    axis[i] = *v;
+    norm += *v * *v;
+  }
+  if (std::fabs(std::sqrt(norm) - 1) > 1e-9) return f.Error(node, path, "must be a unit vector");
+  return absl::OkStatus();
+}
+
+Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                  RobotDescriptor& d) {
+  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "stiffness",
+                                      "damping", "rest", "lo", "hi"});
+      !s.ok())
+    return s;
+  Joint j;
+  j.mark = f.MarkOf(n);
+  auto name = f.String(n["name"], path + ".name");
+  if (!name.ok()) return name.status();
+  j.name = *name;
+  if (Status s = CheckNewName(f, n["name"], path + ".name", j.name, d.FindJoint(j.name)); !s.ok())
+    return s;
+  auto type = f.String(n["type"], path + ".type");
+  if (!type.ok()) return type.status();
+  if (*type != "hinge") return f.Error(n["type"], path + ".type", "must be hinge");
+  j.type = *type;
+  const YAML::Node bodies = n["bodies"];
+  if (!bodies.IsSequence() || bodies.size() != 2)
+    return f.Error(bodies, path + ".bodies", "must be [BODY1, BODY2]");
+  if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, j.body1); !s.ok()) return s;
+  if (Status s = ReadBodyName(f, bodies[1], path + ".bodies[1]", d, j.body2); !s.ok()) return s;
+  if (j.body1 == j.body2) return f.Error(bodies, path + ".bodies", "must name two bodies");
+  if (Status s = ReadVec(f, n["anchor"], path + ".anchor", d, j.anchor); !s.ok()) return s;
+  if (Status s = ParseAxis(f, n["axis"], path + ".axis", j.axis); !s.ok()) return s;
+  for (auto [key, out] : {std::pair{"stiffness", &j.stiffness}, std::pair{"damping", &j.damping},
+                          std::pair{"rest", &j.rest}, std::pair{"lo", &j.lo},
+                          std::pair{"hi", &j.hi}}) {
+    if (Status s = ReadOptional(f, n, key, path, d, *out); !s.ok()) return s;
+  }
+  if (j.lo.has_value() != j.hi.has_value())
+    return f.Error(n, path, "give both stops lo and hi, or neither");
+  d.joints.push_back(std::move(j));
+  return absl::OkStatus();
+}
+
+Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                     RobotDescriptor& d) {
+  if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "max_torque",
+                                      "lag_s"});
+      !s.ok())
+    return s;
+  Actuator a;
+  a.mark = f.MarkOf(n);
+  for (auto [key, out] : {std::pair{"name", &a.name}, std::pair{"type", &a.type},
+                          std::pair{"joint", &a.joint}}) {
+    auto v = f.String(n[key], JoinPath(path, key));
+    if (!v.ok()) return v.status();
+    *out = *v;
+  }
+  if (a.type != "servo") return f.Error(n["type"], path + ".type", "must be servo");
+  if (d.FindJoint(a.joint) == nullptr)
+    return f.Error(n["joint"], path + ".joint", absl::StrCat("no joint named '", a.joint, "'"));
+  for (auto [key, out] : {std::pair{"gain", &a.gain}, std::pair{"max_speed", &a.max_speed},
+                          std::pair{"max_torque", &a.max_torque}, std::pair{"lag_s", &a.lag_s}}) {
+    if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, *out); !s.ok()) return s;
+  }
+  d.actuators.push_back(std::move(a));
+  return absl::OkStatus();
+}
+
+template <typename Fn>
+Status ParseList(const YamlFields& f, const YAML::Node& node, const std::string& key,
+                 RobotDescriptor& d, Fn parse_one) {
+  if (!node[key]) return absl::OkStatus();
+  if (!node[key].IsSequence()) return f.Error(node[key], key, "must be a list");
+  for (size_t i = 0; i < node[key].size(); ++i)
+    if (Status s = parse_one(f, node[key][i], absl::StrCat(key, "[", i, "]"), d); !s.ok())
+      return s;
+  return absl::OkStatus();
+}
+
+// The controller drives exactly the declared actuators, when the robot declares them.
+Status CheckControllerActuators(const YamlFields& f, const YAML::Node& root,
+                                const RobotDescriptor& d) {
+  if (d.actuators.empty()) return absl::OkStatus();
+  std::vector<std::string> declared;
+  for (const auto& a : d.actuators) declared.push_back(a.name);
+  std::vector<std::string> driven = d.controller.actuators;
+  std::vector<std::string> sorted_declared = declared;
+  std::sort(driven.begin(), driven.end());
+  std::sort(sorted_declared.begin(), sorted_declared.end());
+  if (driven == sorted_declared) return absl::OkStatus();
+  return f.Error(root["controller"]["actuators"], "controller.actuators",
+                 absl::StrCat("must name each declared actuator once (",
+                              absl::StrJoin(declared, ", "), "); its genes follow them"));
+}
+
+}  // namespace
+
+Status ReadVec3(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                const RobotDescriptor& d, Vec3Expr& out) {
+  return ReadVec(f, node, path, d, out);
+}
+
+Status ParseStructure(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
+  if (Status s = ParseList(f, root, "bodies", d, ParseBody); !s.ok()) return s;
+  if (Status s = ParseList(f, root, "joints", d, ParseJoint); !s.ok()) return s;
+  if (Status s = ParseList(f, root, "actuators", d, ParseActuator); !s.ok()) return s;
+  if (root["ground"]) {
+    const YAML::Node g = root["ground"];
+    if (Status s = f.CheckMap(g, "ground", {"friction", "erp", "cfm"}); !s.ok()) return s;
+    Ground ground;
+    if (Status s = ReadExpr(f, g["friction"], "ground.friction", d, ground.friction); !s.ok())
+      return s;
+    if (Status s = ReadExpr(f, g["erp"], "ground.erp", d, ground.erp); !s.ok()) return s;
+    if (Status s = ReadExpr(f, g["cfm"], "ground.cfm", d, ground.cfm); !s.ok()) return s;
+    d.ground = ground;
+  }
+  return CheckControllerActuators(f, root, d);
+}
+
+}  // namespace gaitforge::robots

@@ -1,0 +1,169 @@
+#include "workers/models/generic/generic_world.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::generic {
+namespace {
+
+std::array<double, 3> Eval(const robots::Vec3Expr& e, const ParamValues& v) {
+  auto f = [&v](const std::string& n) { return v(n); };
+  return {e[0].Eval(f), e[1].Eval(f), e[2].Eval(f)};
+}
+
+double Eval(const robots::Expr& e, const ParamValues& v) {
+  return e.Eval([&v](const std::string& n) { return v(n); });
+}
+
+// The divergence limits and timing every generic robot gives as parameters.
+constexpr const char* kRequired[] = {"simulation.timestep_s", "simulation.gravity_m_per_s2",
+                                     "simulation.settle_cycles", "simulation.measured_cycles",
+                                     "simulation.max_speed_m_per_s", "simulation.max_excursion_m"};
+
+}  // namespace
+
+ParamValues::ParamValues(const robots::RobotDescriptor& d) : d_(&d) {
+  for (const auto& p : d.parameters) values_.push_back(p.value);
+}
+
+absl::Status ParamValues::Set(const std::string& name, double value) {
+  for (size_t i = 0; i < d_->parameters.size(); ++i) {
+    if (d_->parameters[i].name != name) continue;
+    if (std::string bad = d_->parameters[i].Check(value); !bad.empty())
+      return absl::InvalidArgumentError(bad);
+    values_[i] = value;
+    return absl::OkStatus();
+  }
+  return absl::NotFoundError(absl::StrCat(d_->name, " has no parameter ", name));
+}
+
+double ParamValues::operator()(const std::string& name) const {
+  for (size_t i = 0; i < d_->parameters.size(); ++i)
+    if (d_->parameters[i].name == name) return values_[i];
+  throw std::out_of_range(absl::StrCat(d_->name, " has no parameter ", name));
+}
+
+GenericWorld::GenericWorld(const robots::RobotDescriptor& d, double timestep_s)
+    : d_(d), h_(timestep_s) {}
+
+absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
+    const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s) {
+  if (d.model != "generic" || d.bodies.empty())
+    return absl::InvalidArgumentError(absl::StrCat(
+        d.source, ": the generic builder needs model: generic and at least one body"));
+  for (const char* name : kRequired)
+    if (d.FindParameter(name) == nullptr)
+      return absl::InvalidArgumentError(
+          absl::StrCat(d.source, ": a generic robot needs the parameter ", name));
+  if (!d.ground) return absl::InvalidArgumentError(d.source + ": a generic robot needs ground");
+  const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
+  std::unique_ptr<GenericWorld> w(new GenericWorld(d, h));
+  dWorldSetGravity(w->world_.world(), 0, 0, -v("simulation.gravity_m_per_s2"));
+  // Rigid rows: the drift correction and softness ODE's own examples use.
+  dWorldSetERP(w->world_.world(), 0.2);
+  dWorldSetCFM(w->world_.world(), 1e-9);
+  if (absl::Status s = w->BuildBodies(v); !s.ok()) return s;
+  if (absl::Status s = w->BuildJoints(v); !s.ok()) return s;
+  if (absl::Status s = w->BuildActuators(v); !s.ok()) return s;
+  w->BuildMarkers(v);
+  w->friction_ = Eval(d.ground->friction, v);
+  w->contact_erp_ = Eval(d.ground->erp, v);
+  w->contact_cfm_ = Eval(d.ground->cfm, v);
+  w->max_speed_ = v("simulation.max_speed_m_per_s");
+  w->max_excursion_ = v("simulation.max_excursion_m");
+  return w;
+}
+
+absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
+  for (const robots::Body& b : d_.bodies) {
+    const auto size = Eval(b.size, v);
+    const auto pos = Eval(b.position, v);
+    const double m = Eval(b.mass, v);
+    if (!(size[0] > 0 && size[1] > 0 && size[2] > 0 && m > 0))
+      return absl::InvalidArgumentError(absl::StrCat(
+          b.mark.ToString(), ": body ", b.name, " needs a positive size and mass, got size [",
+          size[0], ", ", size[1], ", ", size[2], "] m and mass ", m, " kg"));
+    dBodyID body = dBodyCreate(world_.world());
+    dMass mass;
+    dMassSetBoxTotal(&mass, m, size[0], size[1], size[2]);
+    dBodySetMass(body, &mass);
+    dBodySetPosition(body, pos[0], pos[1], pos[2]);
+    dGeomID geom = dCreateBox(world_.space(), size[0], size[1], size[2]);
+    dGeomSetBody(geom, body);
+    bodies_.push_back(body);
+    geoms_.push_back(geom);
+    masses_.push_back(m);
+    start_.push_back(pos);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
+  auto body_index = [this](const std::string& name) {
+    for (size_t i = 0; i < d_.bodies.size(); ++i)
+      if (d_.bodies[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  for (const robots::Joint& j : d_.joints) {
+    dJointID hinge = dJointCreateHinge(world_.world(), nullptr);
+    dJointAttach(hinge, bodies_[body_index(j.body1)], bodies_[body_index(j.body2)]);
+    const auto anchor = Eval(j.anchor, v);
+    dJointSetHingeAnchor(hinge, anchor[0], anchor[1], anchor[2]);
+    dJointSetHingeAxis(hinge, j.axis[0], j.axis[1], j.axis[2]);
+    if (j.lo) {
+      const double lo = Eval(*j.lo, v), hi = Eval(*j.hi, v);
+      if (!(lo <= 0 && 0 <= hi))
+        return absl::InvalidArgumentError(absl::StrCat(
+            j.mark.ToString(), ": joint ", j.name, "'s stops [", lo, ", ", hi,
+            "] rad must hold its starting angle 0"));
+      dJointSetHingeParam(hinge, dParamHiStop, hi);
+      dJointSetHingeParam(hinge, dParamLoStop, lo);
+    }
+    Spring s;
+    if (j.stiffness) s.k = Eval(*j.stiffness, v);
+    if (j.damping) s.c = Eval(*j.damping, v);
+    if (j.rest) s.rest = Eval(*j.rest, v);
+    joints_.push_back(hinge);
+    springs_.push_back(s);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
+  for (const robots::Actuator& a : d_.actuators) {
+    Servo s;
+    for (size_t i = 0; i < d_.joints.size(); ++i)
+      if (d_.joints[i].name == a.joint) s.joint = static_cast<int>(i);
+    s.gain = Eval(a.gain, v);
+    s.max_speed = Eval(a.max_speed, v);
+    s.max_torque = Eval(a.max_torque, v);
+    const double lag = Eval(a.lag_s, v);
+    if (!(s.gain > 0 && s.max_speed > 0 && s.max_torque >= 0 && lag >= 0))
+      return absl::InvalidArgumentError(absl::StrCat(
+          a.mark.ToString(), ": servo ", a.name,
+          " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
+    s.lag_keep = lag > 0 ? std::exp(-h_ / lag) : 0;
+    dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
+    servos_.push_back(s);
+  }
+  return absl::OkStatus();
+}
+
+void GenericWorld::BuildMarkers(const ParamValues& v) {
+  for (const robots::Sensor& s : d_.sensors) {
+    if (s.kind != "marker" || s.bodies.empty()) continue;
+    for (size_t i = 0; i < s.names.size(); ++i) {
+      Marker m;
+      m.name = s.names[i];
+      for (size_t b = 0; b < d_.bodies.size(); ++b)
+        if (d_.bodies[b].name == s.bodies[i]) m.body = static_cast<int>(b);
+      if (s.offset) m.offset = Eval(*s.offset, v);
+      markers_.push_back(m);
+    }
+  }
+}
+
+}  // namespace gaitforge::generic

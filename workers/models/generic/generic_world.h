@@ -1,0 +1,103 @@
+#pragma once
+// The generic ODE builder: any descriptor's structure (robots/descriptor.h: bodies, hinge
+// joints with springs, dampers and stops, position servos, ground contact) built into its
+// own ODE world and stepped. Robot-specific C++ exists only for what cannot be data; this
+// class knows no robot.
+//
+// Per step: the servos' commanded angles pass a first-order lag, each servo is a hinge motor
+// whose speed is gain * (command - angle) limited to max_speed, with at most max_torque;
+// springs and dampers are explicit torques -k (angle - rest) - c rate; the ground z = 0
+// touches every box (Coulomb friction with dContactApprox1, or no slip when the friction
+// parameter is infinite); then one dWorldStep and a divergence check.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "robots/descriptor.h"
+#include "workers/sim/sim_outcome.h"
+#include "workers/sim/world.h"
+
+namespace gaitforge::generic {
+
+// Parameter values by name: the descriptor's nominal values with overrides applied.
+class ParamValues {
+ public:
+  explicit ParamValues(const robots::RobotDescriptor& d);
+  // Replaces a parameter's value; the error names its range (robots::Parameter::Check).
+  absl::Status Set(const std::string& name, double value);
+  double operator()(const std::string& name) const;
+
+ private:
+  const robots::RobotDescriptor* d_;
+  std::vector<double> values_;  // parallel to d_->parameters
+};
+
+class GenericWorld {
+ public:
+  // Builds the robot at rest; InvalidArgument when its model is not "generic", it has no
+  // bodies, or a value makes no physical sense (a non-positive size or mass).
+  static absl::StatusOr<std::unique_ptr<GenericWorld>> Build(const robots::RobotDescriptor& d,
+                                                             const ParamValues& values,
+                                                             double timestep_s);
+  GenericWorld(const GenericWorld&) = delete;
+  GenericWorld& operator=(const GenericWorld&) = delete;
+
+  // One step with `commands[i]` the angle (rad) commanded to actuator i (descriptor order).
+  // !ok once the state diverged (NaN, too fast, too far, ODE error): do not step again.
+  sim::SimOutcome Step(const std::vector<double>& commands);
+
+  double time() const { return steps_ * h_; }
+  double timestep() const { return h_; }
+  int body_count() const { return static_cast<int>(bodies_.size()); }
+  // The mean of the bodies' centres, mass-weighted (m, world frame).
+  std::array<double, 3> CentreOfMass() const;
+  double JointAngle(int joint) const;
+  // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
+  absl::StatusOr<double> Channel(const std::string& name) const;
+  int ground_contacts() const { return ground_contacts_; }
+
+ private:
+  GenericWorld(const robots::RobotDescriptor& d, double timestep_s);
+  absl::Status BuildBodies(const ParamValues& v);
+  absl::Status BuildJoints(const ParamValues& v);
+  absl::Status BuildActuators(const ParamValues& v);
+  void BuildMarkers(const ParamValues& v);
+  void ApplyJointTorques();
+  void ApplyServos(const std::vector<double>& commands);
+  void AddGroundContacts();
+  sim::SimOutcome CheckState();
+
+  struct Spring {
+    double k = 0, c = 0, rest = 0;
+  };
+  struct Servo {
+    int joint = 0;
+    double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0;
+    double command = 0;  // the lagged command (rad)
+    bool started = false;
+  };
+  const robots::RobotDescriptor& d_;
+  const double h_;
+  sim::World world_;
+  std::vector<dBodyID> bodies_;
+  std::vector<dGeomID> geoms_;
+  std::vector<double> masses_;
+  std::vector<std::array<double, 3>> start_;
+  std::vector<dJointID> joints_;
+  std::vector<Spring> springs_;
+  std::vector<Servo> servos_;
+  struct Marker {
+    std::string name;
+    int body = 0;
+    std::array<double, 3> offset{};  // body frame
+  };
+  std::vector<Marker> markers_;
+  double friction_ = 0, contact_erp_ = 0, contact_cfm_ = 0;
+  double max_speed_ = 0, max_excursion_ = 0;
+  int64_t steps_ = 0;
+  int ground_contacts_ = 0;
+};
+
+}  // namespace gaitforge::generic
