@@ -1,6 +1,8 @@
 #include "robots/registry.h"
 
+#include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 
@@ -49,6 +51,38 @@ std::vector<std::string> RobotNames() {
   std::vector<std::string> names;
   for (const auto& [name, text] : BuiltinRobotTexts()) names.emplace_back(name);
   return names;
+}
+
+absl::StatusOr<std::shared_ptr<const RobotDescriptor>> ResolveRobot(const std::string& name,
+                                                                    const std::string& text) {
+  if (text.empty()) {
+    const RobotDescriptor* r = FindRobot(name);
+    if (r == nullptr)
+      return absl::NotFoundError(absl::StrCat("no built-in robot '", name, "' (known: ",
+                                              absl::StrJoin(RobotNames(), ", "),
+                                              "); or give a descriptor file's path"));
+    // Built-ins live for the process: a non-owning pointer.
+    return std::shared_ptr<const RobotDescriptor>(std::shared_ptr<void>(), r);
+  }
+  static std::mutex mu;
+  static auto* parsed = new std::map<std::string, std::shared_ptr<const RobotDescriptor>>;
+  std::shared_ptr<const RobotDescriptor> d;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    if (auto it = parsed->find(text); it != parsed->end()) d = it->second;
+  }
+  if (d == nullptr) {
+    auto p = ParseDescriptor(text, name.empty() ? "robot descriptor" : name + " (descriptor)");
+    if (!p.ok()) return p.status();
+    d = std::make_shared<const RobotDescriptor>(std::move(*p));
+    std::lock_guard<std::mutex> lock(mu);
+    if (parsed->size() > 64) parsed->clear();  // a bound, not an LRU: studies name few robots
+    parsed->emplace(text, d);
+  }
+  if (!name.empty() && d->name != name)
+    return absl::InvalidArgumentError(absl::StrCat("the descriptor's name is '", d->name,
+                                                   "', not '", name, "'"));
+  return d;
 }
 
 std::string_view BuiltinText(std::string_view name) {

@@ -2,10 +2,12 @@
 // The built-in robots: robots/<name>/robot.yaml for every name listed in
 // robots/CMakeLists.txt (GAITFORGE_ROBOTS), embedded in the binaries at build time so that a
 // coordinator, a worker and the CLI always agree on them, wherever they run.
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "robots/descriptor.h"
 
 namespace gaitforge::robots {
@@ -20,5 +22,12 @@ const RobotDescriptor& Robot(std::string_view name);
 std::vector<std::string> RobotNames();
 // A built-in descriptor's text as written in its file ("" when unknown).
 std::string_view BuiltinText(std::string_view name);
+
+// The robot a study names: `text` parsed when given (a descriptor the spec carries; parsed
+// once per distinct text and kept, as its content determines it), else the built-in robot
+// `name`. When both are given the descriptor's name must be `name`. Errors name the
+// descriptor's line, or the known built-in robots.
+absl::StatusOr<std::shared_ptr<const RobotDescriptor>> ResolveRobot(const std::string& name,
+                                                                    const std::string& text);
 
 }  // namespace gaitforge::robots

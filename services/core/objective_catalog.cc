@@ -90,6 +90,24 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        "caterpillar",
        // recording time t corresponds to simulated time t + offset (s)
        {"nuisance.time_offset_s"}},
+      {"robot.distance",
+       "forward travel (m) per gait cycle of any robot whose descriptor has model: generic "
+       "(objective.robot; docs/robots.md), measured after settle_cycles from rest; genes: "
+       "the robot's controller's",
+       {{"cycles", 1, 50, 2,
+         "measured gait cycles (default: the robot's simulation.measured_cycles)", true},
+        {"settle_cycles", 0, 20, 1,
+         "gait cycles from rest before measuring (default: the robot's simulation.settle_cycles)",
+         true},
+        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default: the robot's simulation.timestep_s)"}},
+       {},
+       0,
+       // set: parameter overrides NAME=VALUE,... of the robot's descriptor
+       {{"set", {}}},
+       false,
+       "",
+       {},
+       true},
   };
   return catalog;
 }

@@ -42,6 +42,9 @@ struct ObjectiveInfo {
   std::string calibrates;
   // Genes that are parameters of the comparison, not of the model.
   std::vector<std::string> nuisance;
+  // Robot-agnostic: objective.robot names the robot (a built-in, or a descriptor the spec
+  // carries), whose controller's genes are the space and whose parameters `set` may change.
+  bool uses_robot = false;
 };
 
 // A robot's gene space: its controller's genes (robots/controllers.h).

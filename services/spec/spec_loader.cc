@@ -1,4 +1,5 @@
 #include "services/spec/spec_loader.h"
+#include "services/spec/robot_file.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -238,7 +239,10 @@ absl::StatusOr<LoadedSpec> LoadSpecFile(const std::string& path) {
   if (!in) return absl::NotFoundError(absl::StrCat("cannot open spec file '", path, "'"));
   std::stringstream ss;
   ss << in.rdbuf();
-  return ParseSpec(ss.str(), path);
+  auto loaded = ParseSpec(ss.str(), path);
+  if (!loaded.ok()) return loaded;
+  if (auto s = EmbedRobotFile(*loaded); !s.ok()) return s;
+  return loaded;
 }
 
 }  // namespace gaitforge::spec

@@ -23,7 +23,13 @@ void ApplyDefaults(StudySpec* spec) {
   if (spec->name().empty()) spec->set_name("study");
   if (spec->bounds_size() == 0) {
     if (const auto* info = core::FindObjective(spec->objective().name())) {
-      for (const auto& g : info->default_space) {
+      std::vector<core::GeneRange> space = info->default_space;
+      if (info->uses_robot) {
+        auto robot = robots::ResolveRobot(spec->objective().robot(),
+                                          spec->objective().robot_descriptor());
+        if (robot.ok()) space = core::GeneSpaceOf(**robot);  // else Validate says why
+      }
+      for (const auto& g : space) {
         auto* b = spec->add_bounds();
         b->set_name(g.name);
         b->set_lo(g.lo);
@@ -79,6 +85,46 @@ void ValidateCalibrationGenes(const StudySpec& spec, const core::ObjectiveInfo& 
                               " (all: docs/calibration.md, or robots/", robot->name,
                               "/robot.yaml's parameters marked calibrate and its scales)")});
   }
+}
+
+// A robot-agnostic objective's robot must resolve to a generic model, and the genes must be
+// its controller's, in order.
+// False when the robot itself is wrong: errors about the genes would only follow from it.
+bool ValidateRobotGenes(const StudySpec& spec, std::vector<FieldError>& e) {
+  const auto& o = spec.objective();
+  if (o.robot().empty() && o.robot_descriptor().empty()) {
+    e.push_back({"objective.robot", absl::StrCat("is required for ", o.name(),
+                                                 ": a built-in robot's name (",
+                                                 absl::StrJoin(robots::RobotNames(), ", "),
+                                                 ") or a descriptor file's path")});
+    return false;
+  }
+  auto robot = robots::ResolveRobot(o.robot(), o.robot_descriptor());
+  if (!robot.ok()) {
+    e.push_back({"objective.robot", std::string(robot.status().message())});
+    return false;
+  }
+  const robots::RobotDescriptor& d = **robot;
+  if (d.model != "generic") {
+    e.push_back({"objective.robot",
+                 absl::StrCat("robot '", d.name, "' has model '", d.model, "'; ", o.name(),
+                              " simulates model: generic robots (the caterpillar: "
+                              "caterpillar.distance)")});
+    return false;
+  }
+  const auto& genes = d.controller.genes;
+  if (spec.bounds_size() != static_cast<int>(genes.size())) {
+    e.push_back({"bounds", absl::StrCat("has ", spec.bounds_size(), " genes; robot ", d.name,
+                                        "'s controller has ", genes.size())});
+    return true;
+  }
+  for (int i = 0; i < spec.bounds_size(); ++i) {
+    if (spec.bounds(i).name() == genes[i].name) continue;
+    e.push_back({absl::StrCat("bounds[", i, "].name"),
+                 absl::StrCat("'", spec.bounds(i).name(), "' must be '", genes[i].name,
+                              "', gene ", i, " of robot ", d.name)});
+  }
+  return true;
 }
 
 void ValidateCmaes(const StudySpec& spec, std::vector<FieldError>& e) {
@@ -179,6 +225,7 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
         absl::StrCat("= ", spec.generations(), " is out of range [1, ", kMaxGenerations, "]"));
 
   const auto* info = core::FindObjective(spec.objective().name());
+  bool robot_ok = true;  // a wrong robot leaves the genes unknown: no errors about them
   if (spec.objective().name().empty()) {
     add("objective.name", absl::StrCat("is required; one of ", core::ObjectiveNames()));
   } else if (!info) {
@@ -231,12 +278,13 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
       if (spec.objective().held_out(i).empty())
         add(absl::StrCat("objective.held_out[", i, "]"), "is empty");
     if (!info->calibrates.empty()) ValidateCalibrationGenes(spec, *info, e);
+    if (info->uses_robot) robot_ok = ValidateRobotGenes(spec, e);
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));
   }
 
-  if (spec.bounds_size() == 0 || spec.bounds_size() > kMaxGenes)
+  if (robot_ok && (spec.bounds_size() == 0 || spec.bounds_size() > kMaxGenes))
     add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; allowed 1..", kMaxGenes));
   std::set<std::string> names;
   for (int i = 0; i < spec.bounds_size(); ++i) {

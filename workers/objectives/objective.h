@@ -17,6 +17,9 @@ struct EvalInput {
   std::vector<std::string> gene_names;    // the space's gene names (calibration: parameters)
   std::map<std::string, double> params;   // validated against the objective catalog
   std::map<std::string, std::string> options;  // string-valued options (catalog-checked)
+  // The robot of a robot-agnostic objective: a built-in's name, or a descriptor's text the
+  // study carries (objective.robot, objective.robot_descriptor).
+  std::string robot, robot_descriptor;
   // Recordings the objective compares with (fetched and cached by content hash).
   std::vector<std::shared_ptr<const recording::Recording>> recordings;
 };

@@ -4,6 +4,7 @@
 
 #include "workers/models/caterpillar/calibration_objective.h"
 #include "workers/models/caterpillar/caterpillar_objective.h"
+#include "workers/models/generic/generic_objective.h"
 
 namespace gaitforge::worker {
 
@@ -12,6 +13,7 @@ absl::StatusOr<objectives::ObjectiveRegistry> WorkerRegistry() {
   try {
     caterpillar::RegisterCaterpillar(registry);
     caterpillar::RegisterCaterpillarCalibration(registry);
+    generic::RegisterGeneric(registry);
   } catch (const std::exception& e) {
     return absl::FailedPreconditionError(e.what());
   }

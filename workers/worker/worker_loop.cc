@@ -283,6 +283,8 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
         }
         for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
         for (const auto& [k, v] : job.objective().options()) in.options[k] = v;
+        in.robot = job.objective().robot();
+        in.robot_descriptor = job.objective().robot_descriptor();
         for (const auto& b : job.bounds()) in.gene_names.push_back(b.name());
         std::string missing;
         for (const auto& hash : job.objective().recordings()) {

@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_split.h"
 #include "workers/models/caterpillar/param_overrides.h"
+#include "workers/objectives/overrides.h"
 
 #include <cmath>
 
@@ -55,16 +56,13 @@ objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInpu
   // Option "set": parameter overrides NAME=VALUE,... (a model corrected by the gap finder).
   CaterpillarParams params = params_;
   if (auto it = in.options.find("set"); it != in.options.end()) {
-    for (const auto& part : absl::StrSplit(it->second, ',', absl::SkipEmpty())) {
-      const std::string item(part);
-      const size_t eq = item.find('=');
-      char* end = nullptr;
-      const double v = eq == std::string::npos ? 0 : std::strtod(item.c_str() + eq + 1, &end);
-      if (eq == std::string::npos || !end || *end) {
-        r.reason = "option set: '" + item + "' is not NAME=NUMBER";
-        return r;
-      }
-      if (auto s = SetParam(params, item.substr(0, eq), v); !s.ok()) {
+    auto overrides = objectives::ParseOverrides(it->second);
+    if (!overrides.ok()) {
+      r.reason = "option set: " + std::string(overrides.status().message());
+      return r;
+    }
+    for (const auto& [name, v] : *overrides) {
+      if (auto s = SetParam(params, name, v); !s.ok()) {
         r.reason = "option set: " + std::string(s.message());
         return r;
       }

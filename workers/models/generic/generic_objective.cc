@@ -1,0 +1,62 @@
+#include "workers/models/generic/generic_objective.h"
+
+#include <cstdlib>
+
+#include "robots/registry.h"
+#include "workers/models/generic/generic_gait.h"
+#include "workers/objectives/overrides.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::generic {
+namespace {
+
+// Applies option set's NAME=VALUE,... in order; the error says which item and why.
+absl::Status ApplySet(const std::string& text, ParamValues& values) {
+  auto overrides = objectives::ParseOverrides(text);
+  if (!overrides.ok())
+    return absl::InvalidArgumentError("option set: " + std::string(overrides.status().message()));
+  for (const auto& [name, v] : *overrides) {
+    if (auto s = values.Set(name, v); !s.ok())
+      return absl::InvalidArgumentError("option set: " + std::string(s.message()));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalInput& in) const {
+  sim::InitThread();
+  objectives::EvalResult r;
+  auto robot = robots::ResolveRobot(in.robot, in.robot_descriptor);
+  if (!robot.ok()) {
+    r.reason = "robot: " + std::string(robot.status().message());
+    return r;
+  }
+  ParamValues values(**robot);
+  if (auto it = in.options.find("set"); it != in.options.end()) {
+    if (auto s = ApplySet(it->second, values); !s.ok()) {
+      r.reason = std::string(s.message());
+      return r;
+    }
+  }
+  GaitOptions o;
+  if (auto it = in.params.find("cycles"); it != in.params.end()) o.measured_cycles = static_cast<int>(it->second);
+  if (auto it = in.params.find("settle_cycles"); it != in.params.end()) o.settle_cycles = static_cast<int>(it->second);
+  if (auto it = in.params.find("timestep_ms"); it != in.params.end()) o.timestep_s = it->second * 1e-3;
+  const GaitResult g = EvaluateGait(**robot, values, in.genes, o);
+  r.metrics["simulated_s"] = g.simulated_s;
+  if (!g.valid) {
+    r.reason = g.reason;
+    return r;
+  }
+  r.valid = true;
+  r.fitness = g.distance_per_cycle_m;
+  r.metrics["distance_per_cycle"] = g.distance_per_cycle_m;
+  return r;
+}
+
+void RegisterGeneric(objectives::ObjectiveRegistry& registry) {
+  registry.Register(kRobotDistanceName, std::make_shared<RobotDistanceObjective>());
+}
+
+}  // namespace gaitforge::generic
