@@ -31,6 +31,9 @@ struct GlobalOptions {
   std::string token;                      // bearer token (client role), from a file or env
 };
 
+// Where embedded coordinators and workers log: logs/ in the database's folder.
+std::string LogsDir(const GlobalOptions& g);
+
 // The token every call of this process carries (set once by main).
 void SetCallToken(const std::string& token);
 
