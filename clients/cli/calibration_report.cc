@@ -54,7 +54,8 @@ std::string Evaluate(const std::vector<std::string>& files, const std::string& s
   for (const auto& [k, v] : spec.objective().params())
     params.push_back(absl::StrFormat("%s=%.17g", k, v));
   argv.insert(argv.end(), {"--options", absl::StrJoin(options, ";")});
-  if (!params.empty()) argv.insert(argv.end(), {"--params", absl::StrJoin(params, ",")});
+  if (!params.empty())
+    argv.insert(argv.end(), {"--objective-params", absl::StrJoin(params, ",")});
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   argv.insert(argv.end(), {"--out-dir", out_dir});

@@ -80,6 +80,8 @@ int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args,
 int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
               int threads, const std::string& out_dir);
 int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args);
+// grpc.health.v1 Check of --coordinator: prints SERVING (exit 0) or why not (exit 4).
+int CmdHealth(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
              int threads, const std::string& out_dir);
 

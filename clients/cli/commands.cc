@@ -1,11 +1,12 @@
 // Query and control commands: submit, watch, list, show, hof, history, individuals,
-// resume, cancel.
+// cancel, health.
 #include <cmath>
 #include <iostream>
 
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
+#include "grpc/health/v1/health.grpc.pb.h"
 #include "services/spec/spec_loader.h"
 #include "services/spec/spec_validation.h"
 
@@ -260,6 +261,25 @@ int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args) {
   if (g.json) std::cout << ToJson(resp) << "\n";
   else std::cout << resp.study_id() << " " << StateName(resp.state()) << "\n";
   return kOk;
+}
+
+int CmdHealth(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 0, "gaitforge health"); c) return c;
+  if (g.coordinator.empty()) {
+    std::cerr << "gaitforge: health needs --coordinator HOST:PORT (or GAITFORGE_COORDINATOR)\n";
+    return kUsage;
+  }
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  auto stub = grpc::health::v1::Health::NewStub(conn->channel());
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  grpc::health::v1::HealthCheckResponse resp;
+  grpc::Status s = stub->Check(&ctx, grpc::health::v1::HealthCheckRequest(), &resp);
+  if (!s.ok()) return ReportRpcError(s, "health of " + g.coordinator);
+  std::cout << grpc::health::v1::HealthCheckResponse::ServingStatus_Name(resp.status()) << "\n";
+  return resp.status() == grpc::health::v1::HealthCheckResponse::SERVING ? kOk : kUnavailable;
 }
 
 }  // namespace gaitforge::cli

@@ -95,6 +95,14 @@ TEST(EndToEnd, AStudyRunsOverGrpcAndIsStoredInSqlite) {
   EXPECT_EQ(std::count(history.out.begin(), history.out.end(), '\n'), 13);
   auto list = RunCommand(cli + "list --json");
   EXPECT_NE(list.out.find(id), std::string::npos);
+  // --version is the build identity the workers reported (pinned as the study's sim_build).
+  auto version = RunCommand(Bin("gaitforge") + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  ASSERT_FALSE(version.out.empty());
+  EXPECT_NE(list.out.find("\"sim_build\":\"" + version.out.substr(0, version.out.size() - 1) +
+                          "\""),
+            std::string::npos)
+      << version.out << list.out;
   EXPECT_EQ(RunCommand(cli + "show nope").exit_code, 3);
   EXPECT_EQ(RunCommand(cli + "hof " + id + " --generation 12").exit_code, 3);
 }
