@@ -35,6 +35,15 @@ std::string GenesExact(const google::protobuf::RepeatedField<double>& genes) {
   return absl::StrJoin(parts, " ");
 }
 
+// An invalid member's fitness is no number (it is stored as 0, the best value a
+// fitness of minus a loss can have): "invalid" in tables, an empty CSV field.
+std::string TableFitness(const v1::Evaluation& e) {
+  return e.valid() ? absl::StrFormat("%.6g", e.fitness()) : "invalid";
+}
+std::string CsvFitness(const v1::Evaluation& e) {
+  return e.valid() ? absl::StrFormat("%.17g", e.fitness()) : "";
+}
+
 std::string CsvQuote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
@@ -171,17 +180,17 @@ int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int gen
     std::cout << "rank,origin_generation,origin_member,fitness,genes\n";
     for (const auto& e : resp.entries())
       std::cout << e.rank() << "," << e.individual().generation() << ","
-                << e.individual().member() << ","
-                << absl::StrFormat("%.17g", e.individual().evaluation().fitness()) << ","
+                << e.individual().member() << "," << CsvFitness(e.individual().evaluation())
+                << ","
                 << GenesExact(e.individual().genes()) << "\n";
     return kOk;
   }
   std::cout << "hall of fame after generation " << resp.generation() << "\n";
   std::cout << absl::StrFormat("%4s %10s %12s  %s\n", "RANK", "FROM", "FITNESS", "GENES");
   for (const auto& e : resp.entries()) {
-    std::cout << absl::StrFormat("%4d %5d/%-4d %12.6g  %s\n", e.rank(),
+    std::cout << absl::StrFormat("%4d %5d/%-4d %12s  %s\n", e.rank(),
                                  e.individual().generation(), e.individual().member(),
-                                 e.individual().evaluation().fitness(),
+                                 TableFitness(e.individual().evaluation()),
                                  Genes(e.individual().genes()));
   }
   return kOk;
@@ -240,7 +249,7 @@ int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args,
   std::cout << "member,valid,fitness,carried,worker,eval_seconds,reason,genes\n";
   for (const auto& i : resp.individuals())
     std::cout << i.member() << "," << i.evaluation().valid() << ","
-              << absl::StrFormat("%.17g", i.evaluation().fitness()) << "," << i.carried() << ","
+              << CsvFitness(i.evaluation()) << "," << i.carried() << ","
               << i.worker_id() << "," << i.eval_seconds() << ","
               << CsvQuote(i.evaluation().reason()) << "," << GenesExact(i.genes()) << "\n";
   return kOk;

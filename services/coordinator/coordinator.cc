@@ -37,6 +37,18 @@ uint32_t NewEpoch() {
   return e == 0 ? 1 : e;
 }
 
+// Why a generation in which no member is valid stops its study: the commonest reason (the
+// first in byte order among equals) and how many members gave it.
+std::string AllInvalidError(int generation, int members,
+                            const std::map<std::string, int>& reasons) {
+  auto commonest = reasons.begin();
+  for (auto it = reasons.begin(); it != reasons.end(); ++it)
+    if (it->second > commonest->second) commonest = it;
+  return absl::StrCat("generation ", generation, ": all ", members,
+                      " members are invalid; commonest reason (", commonest->second, " of ",
+                      members, "): ", commonest->first.empty() ? "none given" : commonest->first);
+}
+
 }  // namespace
 
 Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
@@ -295,6 +307,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   rec.generation = g;
   double sum = 0, sum2 = 0, best = -INFINITY;
   int valid = 0;
+  std::map<std::string, int> invalid_reasons;
   for (size_t m = 0; m < cands.size(); ++m) {
     const Result& r = *s.results[m];
     evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation};
@@ -318,6 +331,7 @@ void Coordinator::CompleteGeneration(Study& s) {
     }
     if (!r.evaluation.valid()) {
       ++rec.invalid;
+      ++invalid_reasons[r.evaluation.reason()];
       continue;
     }
     ++valid;
@@ -380,6 +394,15 @@ void Coordinator::CompleteGeneration(Study& s) {
   WatchWrite(store_->CommitGeneration(std::move(rec)), s.id);
   queue_.RemoveGeneration(s.id, g);
   Bump();
+  if (valid == 0 && !cands.empty()) {
+    // Nothing to select from: every later generation would fail the same way, and a
+    // "completed" study of invalid members would pass for a result.
+    const std::string error = AllInvalidError(g, static_cast<int>(cands.size()), invalid_reasons);
+    spdlog::error("study={} failed: {}", s.id, error);
+    queue_.RemoveStudy(s.id);
+    SetState(s, "failed", error);
+    return;
+  }
   if (Finished(s)) {
     spdlog::info("study={} completed after {} generations, best fitness {}", s.id, g + 1,
                  s.record.best_fitness.value_or(NAN));
