@@ -1,8 +1,6 @@
 // Invalid evaluations never pass in silence: a generation with no valid member stops the
 // study with the reason, and invalid members never show a fitness.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
-
 #include <algorithm>
 
 #include "tests/e2e/cluster.h"
@@ -11,21 +9,10 @@
 namespace gaitforge::testing {
 namespace {
 
+// All rows of a query, one per line.
 std::string Query(const std::string& db, const std::string& sql) {
-  sqlite3* h = nullptr;
-  sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* st = nullptr;
-  sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr);
   std::string out;
-  while (sqlite3_step(st) == SQLITE_ROW) {
-    for (int c = 0; c < sqlite3_column_count(st); ++c) {
-      const auto* t = sqlite3_column_text(st, c);
-      out += (t ? reinterpret_cast<const char*>(t) : "NULL") + std::string("|");
-    }
-    out += "\n";
-  }
-  sqlite3_finalize(st);
-  sqlite3_close(h);
+  for (const auto& row : Rows(db, sql)) out += row + "\n";
   return out;
 }
 

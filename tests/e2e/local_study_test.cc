@@ -1,7 +1,6 @@
 // End to end: the real coordinator, real worker processes and the CLI over loopback gRPC,
 // checked against the SQLite file itself.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -25,26 +24,6 @@ objective:
   name: analytic.rastrigin
   params: {work_us: 200}
 )";
-
-// Rows of a query as text, for exact comparison between databases.
-std::vector<std::string> Rows(const std::string& db, const std::string& sql) {
-  sqlite3* h = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr), SQLITE_OK) << sql;
-  std::vector<std::string> rows;
-  while (sqlite3_step(st) == SQLITE_ROW) {
-    std::string row;
-    for (int c = 0; c < sqlite3_column_count(st); ++c) {
-      const auto* t = sqlite3_column_text(st, c);
-      row += (t ? reinterpret_cast<const char*>(t) : "NULL") + std::string("|");
-    }
-    rows.push_back(row);
-  }
-  sqlite3_finalize(st);
-  sqlite3_close(h);
-  return rows;
-}
 
 std::string RunStudy(const TempDir& dir, const std::string& db, int workers) {
   WriteFile(dir.File("spec.yaml"), kSpec);
