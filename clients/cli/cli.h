@@ -65,6 +65,9 @@ int ReportRpcError(const grpc::Status& s, const std::string& what);
 std::string ToJson(const google::protobuf::Message& m);
 std::string StateName(v1::StudyState s);
 std::string FormatDuration(double seconds);
+// "invalid N (REASON)": the invalid members of a generation and their commonest reason,
+// cut to 40 characters when `short_reason` (a progress bar's line).
+std::string InvalidText(int invalid, const std::string& reason, bool short_reason);
 // A progress bar on stderr, redrawn in place: "\r[#####.....] line" (frac in [0, 1]).
 void DrawProgressBar(double frac, const std::string& line);
 

@@ -142,6 +142,12 @@ std::string FormatDuration(double s) {
   return absl::StrFormat("%ds", t);
 }
 
+std::string InvalidText(int invalid, const std::string& reason, bool short_reason) {
+  std::string why = reason.empty() ? "no reason given" : reason;
+  if (short_reason && why.size() > 40) why = why.substr(0, 37) + "...";
+  return absl::StrFormat("invalid %d (%s)", invalid, why);
+}
+
 void DrawProgressBar(double frac, const std::string& line) {
   const int width = 30;
   const int fill = static_cast<int>(std::clamp(frac, 0.0, 1.0) * width);
@@ -168,9 +174,10 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
     last = p;
     const int total = std::max(1, p.generations_total());
     const double frac = static_cast<double>(p.generations_done()) / total;
-    const std::string line = absl::StrFormat(
+    std::string line = absl::StrFormat(
         "gen %d/%d  best %.6g  mean %.6g  %.0f ev/s  ETA %s", p.generations_done(), total,
         p.best(), p.mean(), p.evals_per_second(), FormatDuration(p.eta_seconds()));
+    if (p.invalid() > 0) line += "  " + InvalidText(p.invalid(), p.invalid_reason(), tty);
     if (tty) {
       DrawProgressBar(frac, line);
     } else if (!g.json) {

@@ -153,8 +153,23 @@ int CmdShow(const GlobalOptions& g, const std::vector<std::string>& args) {
   v1::StudySummary resp;
   grpc::Status s = conn->study().GetStudy(&ctx, req, &resp);
   if (!s.ok()) return ReportRpcError(s, "show " + args[0]);
-  if (g.json) std::cout << ToJson(resp) << "\n";
-  else PrintSummary(resp);
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  PrintSummary(resp);
+  // The latest generation's invalid members, from its history row.
+  grpc::ClientContext hctx;
+  SetDeadline(hctx, g.timeout_s);
+  v1::GetHistoryRequest hreq;
+  hreq.set_study_id(args[0]);
+  v1::GetHistoryResponse history;
+  if (conn->study().GetHistory(&hctx, hreq, &history).ok() && history.generations_size() > 0) {
+    const auto& last = *history.generations().rbegin();
+    std::cout << "invalid      " << last.invalid() << " in generation " << last.generation();
+    if (last.invalid() > 0) std::cout << "; commonest reason: " << last.invalid_reason();
+    std::cout << "\n";
+  }
   return kOk;
 }
 
@@ -213,19 +228,20 @@ int CmdHistory(const GlobalOptions& g, const std::vector<std::string>& args) {
     return kOk;
   }
   if (g.csv) {
-    std::cout << "generation,best,mean,stddev,diversity,evaluations,invalid\n";
+    std::cout << "generation,best,mean,stddev,diversity,evaluations,invalid,invalid_reason\n";
     for (const auto& h : resp.generations())
-      std::cout << absl::StrFormat("%d,%.17g,%.17g,%.17g,%.17g,%d,%d\n", h.generation(), h.best(),
+      std::cout << absl::StrFormat("%d,%.17g,%.17g,%.17g,%.17g,%d,%d,", h.generation(), h.best(),
                                    h.mean(), h.stddev(), h.diversity(), h.evaluations(),
-                                   h.invalid());
+                                   h.invalid())
+                << CsvQuote(h.invalid_reason()) << "\n";
     return kOk;
   }
-  std::cout << absl::StrFormat("%5s %12s %12s %10s %9s %6s %7s\n", "GEN", "BEST", "MEAN",
-                               "STDDEV", "DIVERSITY", "EVALS", "INVALID");
+  std::cout << absl::StrFormat("%5s %12s %12s %10s %9s %6s %7s  %s\n", "GEN", "BEST", "MEAN",
+                               "STDDEV", "DIVERSITY", "EVALS", "INVALID", "COMMONEST REASON");
   for (const auto& h : resp.generations())
-    std::cout << absl::StrFormat("%5d %12.6g %12.6g %10.4g %9.4f %6d %7d\n", h.generation(),
+    std::cout << absl::StrFormat("%5d %12.6g %12.6g %10.4g %9.4f %6d %7d  %s\n", h.generation(),
                                  h.best(), h.mean(), h.stddev(), h.diversity(), h.evaluations(),
-                                 h.invalid());
+                                 h.invalid(), h.invalid_reason());
   return kOk;
 }
 
