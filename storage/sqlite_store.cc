@@ -329,8 +329,13 @@ class SqliteStore final : public StudyStore {
     return WithReader([&](sqlite3* db) -> absl::StatusOr<std::vector<GenerationRecord>> {
       Statement q(db,
                   "SELECT generation, best, mean, stddev, diversity, evaluations, invalid, "
-                  "committed_ms, leases, lease_expiries, duplicates, backups, poisoned "
-                  "FROM generations WHERE study_id = ? ORDER BY generation");
+                  "committed_ms, leases, lease_expiries, duplicates, backups, poisoned, "
+                  // The commonest reason of the generation's invalid members (the first
+                  // in byte order among equals), from the members' own rows.
+                  "(SELECT reason FROM individuals i WHERE i.study_id = g.study_id AND "
+                  "i.generation = g.generation AND i.valid = 0 GROUP BY reason "
+                  "ORDER BY COUNT(*) DESC, reason LIMIT 1) "
+                  "FROM generations g WHERE study_id = ? ORDER BY generation");
       q.Bind(1, id);
       std::vector<GenerationRecord> out;
       while (q.Step()) {
@@ -346,6 +351,7 @@ class SqliteStore final : public StudyStore {
         g.invalid = static_cast<int>(q.Int(6));
         g.committed_ms = q.Int(7);
         g.counters = JobCounters{q.Int(8), q.Int(9), q.Int(10), q.Int(11), q.Int(12)};
+        g.invalid_reason = q.Text(13);
         out.push_back(std::move(g));
       }
       if (!q.status().ok()) return q.status();

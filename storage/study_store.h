@@ -82,6 +82,8 @@ struct GenerationRecord {
   double best = 0, mean = 0, stddev = 0, diversity = 0;
   int evaluations = 0;  // members evaluated in this generation (not carried)
   int invalid = 0;
+  // Read only: the commonest reason among the invalid members ("" if none is invalid).
+  std::string invalid_reason;
   int64_t committed_ms = 0;
   JobCounters counters;
   std::string engine_state;

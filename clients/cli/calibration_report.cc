@@ -1,6 +1,6 @@
 // The report of a calibration study (`gaitforge report ID` when the objective is
 // caterpillar.calibration): fitted parameters with their uncertainty (the final CMA-ES
-// distribution), training and held-out error before (caterpillar.yaml as it is) and after
+// distribution), training and held-out error before (robots/caterpillar/robot.yaml as it is) and after
 // the fit, the real-to-simulated distance ratio per recording (paper 000 Fig. 9), and
 // overlays of recorded and simulated markers (paper 000 Figs. 11, 12).
 #include <filesystem>
@@ -54,7 +54,8 @@ std::string Evaluate(const std::vector<std::string>& files, const std::string& s
   for (const auto& [k, v] : spec.objective().params())
     params.push_back(absl::StrFormat("%s=%.17g", k, v));
   argv.insert(argv.end(), {"--options", absl::StrJoin(options, ";")});
-  if (!params.empty()) argv.insert(argv.end(), {"--params", absl::StrJoin(params, ",")});
+  if (!params.empty())
+    argv.insert(argv.end(), {"--objective-params", absl::StrJoin(params, ",")});
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   argv.insert(argv.end(), {"--out-dir", out_dir});

@@ -31,6 +31,9 @@ struct GlobalOptions {
   std::string token;                      // bearer token (client role), from a file or env
 };
 
+// Where embedded coordinators and workers log: logs/ in the database's folder.
+std::string LogsDir(const GlobalOptions& g);
+
 // The token every call of this process carries (set once by main).
 void SetCallToken(const std::string& token);
 
@@ -64,6 +67,9 @@ std::string ToJson(const google::protobuf::Message& m);
 std::string JsonQuote(const std::string& s);
 std::string StateName(v1::StudyState s);
 std::string FormatDuration(double seconds);
+// "invalid N (REASON)": the invalid members of a generation and their commonest reason,
+// cut to 40 characters when `short_reason` (a progress bar's line).
+std::string InvalidText(int invalid, const std::string& reason, bool short_reason);
 // A progress bar on stderr, redrawn in place: "\r[#####.....] line" (frac in [0, 1]).
 void DrawProgressBar(double frac, const std::string& line);
 
@@ -79,6 +85,8 @@ int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args,
 int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
               int threads, const std::string& out_dir);
 int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args);
+// grpc.health.v1 Check of --coordinator: prints SERVING (exit 0) or why not (exit 4).
+int CmdHealth(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
              int threads, const std::string& out_dir);
 

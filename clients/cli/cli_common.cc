@@ -10,6 +10,7 @@
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "services/core/db_path.h"
 #include "services/rpc/channel.h"
 
 namespace gaitforge::cli {
@@ -22,6 +23,10 @@ std::string& CallToken() {
 }  // namespace
 
 void SetCallToken(const std::string& token) { CallToken() = token; }
+
+std::string LogsDir(const GlobalOptions& g) {
+  return (std::filesystem::path(g.db).parent_path() / "logs").string();
+}
 
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
   return *rpc::MakeChannel(rpc::ChannelOptions{target, "", "", "", ""});
@@ -37,13 +42,25 @@ std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writab
   if (!g.coordinator.empty()) {
     c->target_ = g.coordinator;
   } else {
+    // Check before anything is created next to it: `--db DIR` would put logs/ beside DIR.
+    auto path = core::CheckDbPath(g.db);
+    const auto folder = std::filesystem::path(g.db).parent_path();
+    if (!path.ok() && writable && g.db == GlobalOptions().db &&
+        !std::filesystem::exists(folder)) {
+      std::error_code ec;  // the default database's folder is made on first use
+      std::filesystem::create_directories(folder, ec);
+      path = core::CheckDbPath(g.db);
+    }
+    if (!path.ok()) {
+      *error = std::string(path.message());
+      return nullptr;
+    }
     if (!writable && !std::filesystem::exists(g.db)) {
       *error = "no database at '" + g.db +
                "': run 'gaitforge local SPEC' first, or name a server with --coordinator";
       return nullptr;
     }
-    const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
-    c->pid_ = StartCoordinator(g.db, !writable, logs.empty() ? "logs" : logs, &c->target_, error);
+    c->pid_ = StartCoordinator(g.db, !writable, LogsDir(g), &c->target_, error);
     if (c->pid_ < 0) return nullptr;
   }
   // The embedded coordinator listens on loopback in plaintext; a named one as configured.
@@ -70,7 +87,9 @@ std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* 
   auto c = Connection::Open(g, writable, &error);
   if (!c) {
     std::cerr << "gaitforge: " << error << "\n";
-    *code = error.rfind("no database", 0) == 0 ? kNotFound : kUnavailable;
+    *code = error.rfind("no database", 0) == 0 ? kNotFound
+            : error.rfind("--db ", 0) == 0     ? kUsage
+                                               : kUnavailable;
   }
   return c;
 }
@@ -123,6 +142,12 @@ std::string FormatDuration(double s) {
   return absl::StrFormat("%ds", t);
 }
 
+std::string InvalidText(int invalid, const std::string& reason, bool short_reason) {
+  std::string why = reason.empty() ? "no reason given" : reason;
+  if (short_reason && why.size() > 40) why = why.substr(0, 37) + "...";
+  return absl::StrFormat("invalid %d (%s)", invalid, why);
+}
+
 void DrawProgressBar(double frac, const std::string& line) {
   const int width = 30;
   const int fill = static_cast<int>(std::clamp(frac, 0.0, 1.0) * width);
@@ -149,9 +174,10 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
     last = p;
     const int total = std::max(1, p.generations_total());
     const double frac = static_cast<double>(p.generations_done()) / total;
-    const std::string line = absl::StrFormat(
+    std::string line = absl::StrFormat(
         "gen %d/%d  best %.6g  mean %.6g  %.0f ev/s  ETA %s", p.generations_done(), total,
         p.best(), p.mean(), p.evals_per_second(), FormatDuration(p.eta_seconds()));
+    if (p.invalid() > 0) line += "  " + InvalidText(p.invalid(), p.invalid_reason(), tty);
     if (tty) {
       DrawProgressBar(frac, line);
     } else if (!g.json) {

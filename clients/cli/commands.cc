@@ -1,11 +1,12 @@
 // Query and control commands: submit, watch, list, show, hof, history, individuals,
-// resume, cancel.
+// cancel, health.
 #include <cmath>
 #include <iostream>
 
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
+#include "grpc/health/v1/health.grpc.pb.h"
 #include "services/spec/spec_loader.h"
 #include "services/spec/spec_validation.h"
 
@@ -32,6 +33,15 @@ std::string GenesExact(const google::protobuf::RepeatedField<double>& genes) {
   std::vector<std::string> parts;
   for (double x : genes) parts.push_back(absl::StrFormat("%.17g", x));
   return absl::StrJoin(parts, " ");
+}
+
+// An invalid member's fitness is no number (it is stored as 0, the best value a
+// fitness of minus a loss can have): "invalid" in tables, an empty CSV field.
+std::string TableFitness(const v1::Evaluation& e) {
+  return e.valid() ? absl::StrFormat("%.6g", e.fitness()) : "invalid";
+}
+std::string CsvFitness(const v1::Evaluation& e) {
+  return e.valid() ? absl::StrFormat("%.17g", e.fitness()) : "";
 }
 
 std::string CsvQuote(const std::string& s) {
@@ -143,8 +153,23 @@ int CmdShow(const GlobalOptions& g, const std::vector<std::string>& args) {
   v1::StudySummary resp;
   grpc::Status s = conn->study().GetStudy(&ctx, req, &resp);
   if (!s.ok()) return ReportRpcError(s, "show " + args[0]);
-  if (g.json) std::cout << ToJson(resp) << "\n";
-  else PrintSummary(resp);
+  if (g.json) {
+    std::cout << ToJson(resp) << "\n";
+    return kOk;
+  }
+  PrintSummary(resp);
+  // The latest generation's invalid members, from its history row.
+  grpc::ClientContext hctx;
+  SetDeadline(hctx, g.timeout_s);
+  v1::GetHistoryRequest hreq;
+  hreq.set_study_id(args[0]);
+  v1::GetHistoryResponse history;
+  if (conn->study().GetHistory(&hctx, hreq, &history).ok() && history.generations_size() > 0) {
+    const auto& last = *history.generations().rbegin();
+    std::cout << "invalid      " << last.invalid() << " in generation " << last.generation();
+    if (last.invalid() > 0) std::cout << "; commonest reason: " << last.invalid_reason();
+    std::cout << "\n";
+  }
   return kOk;
 }
 
@@ -170,17 +195,17 @@ int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int gen
     std::cout << "rank,origin_generation,origin_member,fitness,genes\n";
     for (const auto& e : resp.entries())
       std::cout << e.rank() << "," << e.individual().generation() << ","
-                << e.individual().member() << ","
-                << absl::StrFormat("%.17g", e.individual().evaluation().fitness()) << ","
+                << e.individual().member() << "," << CsvFitness(e.individual().evaluation())
+                << ","
                 << GenesExact(e.individual().genes()) << "\n";
     return kOk;
   }
   std::cout << "hall of fame after generation " << resp.generation() << "\n";
   std::cout << absl::StrFormat("%4s %10s %12s  %s\n", "RANK", "FROM", "FITNESS", "GENES");
   for (const auto& e : resp.entries()) {
-    std::cout << absl::StrFormat("%4d %5d/%-4d %12.6g  %s\n", e.rank(),
+    std::cout << absl::StrFormat("%4d %5d/%-4d %12s  %s\n", e.rank(),
                                  e.individual().generation(), e.individual().member(),
-                                 e.individual().evaluation().fitness(),
+                                 TableFitness(e.individual().evaluation()),
                                  Genes(e.individual().genes()));
   }
   return kOk;
@@ -203,19 +228,20 @@ int CmdHistory(const GlobalOptions& g, const std::vector<std::string>& args) {
     return kOk;
   }
   if (g.csv) {
-    std::cout << "generation,best,mean,stddev,diversity,evaluations,invalid\n";
+    std::cout << "generation,best,mean,stddev,diversity,evaluations,invalid,invalid_reason\n";
     for (const auto& h : resp.generations())
-      std::cout << absl::StrFormat("%d,%.17g,%.17g,%.17g,%.17g,%d,%d\n", h.generation(), h.best(),
+      std::cout << absl::StrFormat("%d,%.17g,%.17g,%.17g,%.17g,%d,%d,", h.generation(), h.best(),
                                    h.mean(), h.stddev(), h.diversity(), h.evaluations(),
-                                   h.invalid());
+                                   h.invalid())
+                << CsvQuote(h.invalid_reason()) << "\n";
     return kOk;
   }
-  std::cout << absl::StrFormat("%5s %12s %12s %10s %9s %6s %7s\n", "GEN", "BEST", "MEAN",
-                               "STDDEV", "DIVERSITY", "EVALS", "INVALID");
+  std::cout << absl::StrFormat("%5s %12s %12s %10s %9s %6s %7s  %s\n", "GEN", "BEST", "MEAN",
+                               "STDDEV", "DIVERSITY", "EVALS", "INVALID", "COMMONEST REASON");
   for (const auto& h : resp.generations())
-    std::cout << absl::StrFormat("%5d %12.6g %12.6g %10.4g %9.4f %6d %7d\n", h.generation(),
+    std::cout << absl::StrFormat("%5d %12.6g %12.6g %10.4g %9.4f %6d %7d  %s\n", h.generation(),
                                  h.best(), h.mean(), h.stddev(), h.diversity(), h.evaluations(),
-                                 h.invalid());
+                                 h.invalid(), h.invalid_reason());
   return kOk;
 }
 
@@ -239,7 +265,7 @@ int CmdIndividuals(const GlobalOptions& g, const std::vector<std::string>& args,
   std::cout << "member,valid,fitness,carried,worker,eval_seconds,reason,genes\n";
   for (const auto& i : resp.individuals())
     std::cout << i.member() << "," << i.evaluation().valid() << ","
-              << absl::StrFormat("%.17g", i.evaluation().fitness()) << "," << i.carried() << ","
+              << CsvFitness(i.evaluation()) << "," << i.carried() << ","
               << i.worker_id() << "," << i.eval_seconds() << ","
               << CsvQuote(i.evaluation().reason()) << "," << GenesExact(i.genes()) << "\n";
   return kOk;
@@ -260,6 +286,25 @@ int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args) {
   if (g.json) std::cout << ToJson(resp) << "\n";
   else std::cout << resp.study_id() << " " << StateName(resp.state()) << "\n";
   return kOk;
+}
+
+int CmdHealth(const GlobalOptions& g, const std::vector<std::string>& args) {
+  if (int c = NeedArgs(args, 0, "gaitforge health"); c) return c;
+  if (g.coordinator.empty()) {
+    std::cerr << "gaitforge: health needs --coordinator HOST:PORT (or GAITFORGE_COORDINATOR)\n";
+    return kUsage;
+  }
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  auto stub = grpc::health::v1::Health::NewStub(conn->channel());
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  grpc::health::v1::HealthCheckResponse resp;
+  grpc::Status s = stub->Check(&ctx, grpc::health::v1::HealthCheckRequest(), &resp);
+  if (!s.ok()) return ReportRpcError(s, "health of " + g.coordinator);
+  std::cout << grpc::health::v1::HealthCheckResponse::ServingStatus_Name(resp.status()) << "\n";
+  return resp.status() == grpc::health::v1::HealthCheckResponse::SERVING ? kOk : kUnavailable;
 }
 
 }  // namespace gaitforge::cli

@@ -87,12 +87,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
     std::cerr << "gaitforge: " << args[0] << ": " << s.message() << "\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, true, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
   std::vector<pid_t> pids;
   if (g.coordinator.empty()) pids = StartLocalWorkers(g, conn->target(), workers, threads);
   struct Stopper {

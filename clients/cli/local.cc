@@ -3,7 +3,6 @@
 // file under ./runs/, run the study to its end and leave everything queryable.
 #include <unistd.h>
 
-#include <filesystem>
 #include <functional>
 #include <iostream>
 
@@ -33,7 +32,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
                         const std::string& out_dir,
                         const std::function<std::string(v1::StudyService::Stub&)>& start,
                         int* start_code) {
-  const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
+  const std::string logs = LogsDir(g);
   std::string id = start(conn.study());
   if (id.empty()) return *start_code;
   std::vector<pid_t> pids = StartLocalWorkers(g, conn.target(), workers, threads);
@@ -68,7 +67,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
 
 std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
                                      int threads) {
-  const std::string logs = (std::filesystem::path(g.db).parent_path() / "logs").string();
+  const std::string logs = LogsDir(g);
   std::vector<pid_t> pids;
   for (int i = 0; i < workers; ++i) {
     const std::string log = logs + "/worker-" + std::to_string(i) + ".log";
@@ -92,12 +91,9 @@ int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int w
   }
   v1::CreateStudyRequest req;
   if (int c = LoadSpec(args[0], req.mutable_spec()); c) return c;
-  std::string error;
-  auto conn = Connection::Open(g, true, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
   if (int c = UploadSpecRecordings(*conn, args[0], req.mutable_spec(), g); c) return c;
   int start_code = kOk;
   return RunWithLocalWorkers(
@@ -122,12 +118,9 @@ int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int 
     std::cerr << "gaitforge: usage: gaitforge resume STUDY_ID\n";
     return kUsage;
   }
-  std::string error;
-  auto conn = Connection::Open(g, true, &error);
-  if (!conn) {
-    std::cerr << "gaitforge: " << error << "\n";
-    return kUnavailable;
-  }
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
   int start_code = kOk;
   auto resume = [&](v1::StudyService::Stub& stub) -> std::string {
     grpc::ClientContext ctx;

@@ -4,44 +4,12 @@
 #include <thread>
 
 #include "clients/cli/cli.h"
+#include "clients/cli/command_help.h"
+#include "services/core/build_info.h"
 #include "services/core/flags.h"
 #include "services/rpc/channel.h"
 
 using namespace gaitforge;
-
-namespace {
-
-const char* kCommands =
-    "commands:\n"
-    "  local SPEC      run a study on this machine: a coordinator, N workers, SQLite under "
-    "./runs/\n"
-    "  submit SPEC     create a study on a coordinator (--coordinator); prints its id\n"
-    "  watch ID        progress bar until the study ends (exit 0 if it completed)\n"
-    "  list            every study\n"
-    "  show ID         one study\n"
-    "  hof ID          hall of fame (--generation G for an earlier one)\n"
-    "  history ID      best, mean and diversity per generation (--json or --csv)\n"
-    "  individuals ID  every member of --generation G (CSV, or --json)\n"
-    "  plot ID         figures as SVG files (fitness per generation) under --out\n"
-    "  report ID       caterpillar studies: fitness, gait diagrams, period sweep, travelling\n"
-    "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out\n"
-    "  trajectory ID   markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
-    "                  --rank R, --generation G, --rate HZ, --cycles N)\n"
-    "  diagnose SPEC   the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
-    "                  fit it and show the held-out error fall (docs/diagnosis.md)\n"
-    "  recording add FILE.csv   upload a recording (+ FILE.csv.json sidecar); prints its hash\n"
-    "  recording list           the stored recordings\n"
-    "  robots [NAME|FILE]       the built-in robots; one robot's parameters, genes and channels;\n"
-    "                           a descriptor file checked (docs/robots.md)\n"
-    "  resume ID       continue a cancelled or interrupted study\n"
-    "  cancel ID       stop a study; its results stay\n"
-    "\n"
-    "Without --coordinator, commands work on the local database (--db), starting a private\n"
-    "coordinator for as long as they run. Exit codes: 0 ok, 1 study ended not completed,\n"
-    "2 bad input, 3 not found, 4 coordinator unavailable, 5 other error, 6 token missing\n"
-    "or not allowed (docs/cli.md).\n";
-
-}  // namespace
 
 int main(int argc, char** argv) {
   cli::GlobalOptions g;
@@ -57,7 +25,7 @@ int main(int argc, char** argv) {
   double rate = 100;
   core::Flags flags("gaitforge COMMAND [ARGS] [flags]",
                     "Evolves gaits and calibrates simulations of soft robots on a gaitforge "
-                    "coordinator and its workers.\n\n" + std::string(kCommands));
+                    "coordinator and its workers.\n\n" + cli::CommandList());
   flags.Add("coordinator", &g.coordinator,
             "coordinator address host:port (env GAITFORGE_COORDINATOR); empty: local database");
   flags.Add("db", &g.db, "local SQLite database used without --coordinator");
@@ -78,11 +46,25 @@ int main(int argc, char** argv) {
   flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
   flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
+  bool version = false;
+  flags.AddBool("version", &version, "print the build's identity (what workers report) and exit");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
     std::cerr << "gaitforge: " << s.message() << "\n";
     return cli::kUsage;
   }
   const auto& pos = flags.positional();
+  if (version) {
+    std::cout << core::BuildId() << "\n";
+    return cli::kOk;
+  }
+  const cli::CommandHelp* command = pos.empty() ? nullptr : cli::FindCommand(pos[0]);
+  if (flags.help_requested() && command) {
+    std::cout << flags.Help("gaitforge " + command->name +
+                                (command->args.empty() ? "" : " " + command->args) + " [flags]",
+                            command->details + "\n\nexample:\n  " + command->example,
+                            command->flags);
+    return cli::kOk;
+  }
   if (flags.help_requested() || pos.empty()) {
     std::cout << flags.Help();
     return pos.empty() && !flags.help_requested() ? cli::kUsage : cli::kOk;
@@ -127,6 +109,7 @@ int main(int argc, char** argv) {
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
   if (cmd == "trajectory")
     return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);
-  std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << kCommands;
+  if (cmd == "health") return cli::CmdHealth(g, args);
+  std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << cli::CommandList();
   return cli::kUsage;
 }

@@ -71,7 +71,7 @@ std::vector<std::string> Concat(std::vector<std::string> a, const std::vector<st
 }
 
 // The model file's timestep, as the objective catalog states it (timestep_ms's default,
-// which the worker takes from caterpillar.yaml).
+// which the worker takes from robots/caterpillar/robot.yaml).
 double ModelTimestepS(const std::string& objective) {
   if (const core::ObjectiveInfo* info = core::FindObjective(objective)) {
     for (const auto& p : info->params)

@@ -37,6 +37,24 @@ uint32_t NewEpoch() {
   return e == 0 ? 1 : e;
 }
 
+// The commonest reason among invalid members (the first in byte order among equals, as
+// the store's History reads it back) and how many gave it; {"", 0} for none.
+std::pair<std::string, int> Commonest(const std::map<std::string, int>& reasons) {
+  std::pair<std::string, int> out;
+  for (const auto& [reason, n] : reasons)
+    if (n > out.second) out = {reason, n};
+  return out;
+}
+
+// Why a generation in which no member is valid stops its study.
+std::string AllInvalidError(int generation, int members,
+                            const std::map<std::string, int>& reasons) {
+  const auto [reason, n] = Commonest(reasons);
+  return absl::StrCat("generation ", generation, ": all ", members,
+                      " members are invalid; commonest reason (", n, " of ", members,
+                      "): ", reason.empty() ? "none given" : reason);
+}
+
 }  // namespace
 
 Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
@@ -295,6 +313,7 @@ void Coordinator::CompleteGeneration(Study& s) {
   rec.generation = g;
   double sum = 0, sum2 = 0, best = -INFINITY;
   int valid = 0;
+  std::map<std::string, int> invalid_reasons;
   for (size_t m = 0; m < cands.size(); ++m) {
     const Result& r = *s.results[m];
     evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation};
@@ -318,6 +337,7 @@ void Coordinator::CompleteGeneration(Study& s) {
     }
     if (!r.evaluation.valid()) {
       ++rec.invalid;
+      ++invalid_reasons[r.evaluation.reason()];
       continue;
     }
     ++valid;
@@ -374,12 +394,23 @@ void Coordinator::CompleteGeneration(Study& s) {
   s.record.evaluations = s.evaluations;
   s.record.state = rec.study_state;
   s.record.updated_ms = rec.committed_ms;
+  s.last_invalid = rec.invalid;
+  s.last_invalid_reason = Commonest(invalid_reasons).first;
   spdlog::debug("study={} generation={} done: best {} mean {}", s.id, g, rec.best, rec.mean);
   if (options_.metrics)
-    options_.metrics->SetStudy(s.id, g + 1, s.record.best_fitness.value_or(NAN));
+    options_.metrics->SetStudy(s.id, g + 1, s.record.best_fitness.value_or(NAN), rec.invalid);
   WatchWrite(store_->CommitGeneration(std::move(rec)), s.id);
   queue_.RemoveGeneration(s.id, g);
   Bump();
+  if (valid == 0 && !cands.empty()) {
+    // Nothing to select from: every later generation would fail the same way, and a
+    // "completed" study of invalid members would pass for a result.
+    const std::string error = AllInvalidError(g, static_cast<int>(cands.size()), invalid_reasons);
+    spdlog::error("study={} failed: {}", s.id, error);
+    queue_.RemoveStudy(s.id);
+    SetState(s, "failed", error);
+    return;
+  }
   if (Finished(s)) {
     spdlog::info("study={} completed after {} generations, best fitness {}", s.id, g + 1,
                  s.record.best_fitness.value_or(NAN));
@@ -548,6 +579,7 @@ absl::StatusOr<v1::GetHistoryResponse> Coordinator::History(const std::string& i
     s->set_duplicates(g.counters.duplicates);
     s->set_backups(g.counters.backups);
     s->set_poisoned(g.counters.poisoned);
+    s->set_invalid_reason(g.invalid_reason);
   }
   return out;
 }
@@ -584,8 +616,14 @@ absl::StatusOr<std::pair<v1::Progress, int64_t>> Coordinator::Progress(const std
   }
   auto r = store_->GetStudy(id);
   if (!r.ok()) return r.status();
+  auto generations = store_->History(id);  // another coordinator's study: its latest row
   std::lock_guard<std::mutex> l(mu_);
-  return std::make_pair(MakeProgress(nullptr, *r), version_);
+  v1::Progress p = MakeProgress(nullptr, *r);
+  if (generations.ok() && !generations->empty()) {
+    p.set_invalid(generations->back().invalid);
+    p.set_invalid_reason(generations->back().invalid_reason);
+  }
+  return std::make_pair(p, version_);
 }
 
 }  // namespace gaitforge::coordinator

@@ -106,6 +106,8 @@ class Coordinator {
     int64_t evaluations = 0;  // distinct evaluated jobs, all generations
     std::deque<std::pair<int64_t, int64_t>> rate;  // (ms, evaluations) samples
     storage::JobCounters counters;                  // current generation's
+    int last_invalid = 0;             // invalid members of the latest committed generation
+    std::string last_invalid_reason;  // and their commonest reason
   };
 
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);

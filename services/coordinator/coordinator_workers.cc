@@ -346,6 +346,10 @@ v1::Progress Coordinator::MakeProgress(const Study* s, const storage::StudyRecor
   p.set_mean(sum.mean_fitness());
   p.set_evaluations(s ? s->evaluations : r.evaluations);
   p.set_error(r.error);
+  if (s) {
+    p.set_invalid(s->last_invalid);
+    p.set_invalid_reason(s->last_invalid_reason);
+  }
   if (s && s->rate.size() >= 2) {
     const auto& [t0, e0] = s->rate.front();
     const auto& [t1, e1] = s->rate.back();

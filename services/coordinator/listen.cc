@@ -3,9 +3,13 @@
 #include <arpa/inet.h>
 #include <grpcpp/security/server_credentials.h>
 #include <ifaddrs.h>
+#include <netdb.h>
 #include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -36,6 +40,12 @@ absl::StatusOr<std::string> ReadFile(const std::string& path) {
 }
 
 absl::StatusOr<std::string> ResolveListen(const std::string& listen, const std::string& iface) {
+  const std::string port = PortOf(listen);
+  const bool digits = !port.empty() && port.size() <= 5 &&
+                      port.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits || std::stoi(port) > 65535)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--listen ", listen, ": the port must be a number in [0, 65535] (0: any free port)"));
   if (iface.empty()) return listen;
   ifaddrs* list = nullptr;
   if (getifaddrs(&list) != 0) return absl::InternalError("getifaddrs failed");
@@ -97,6 +107,34 @@ std::string DialAddress(const std::string& address, int port) {
   }
   if (host.find(':') != std::string::npos) host = "[" + host + "]";
   return absl::StrCat(host, ":", port);
+}
+
+absl::Status TryBind(const std::string& address) {
+  addrinfo hints{};
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE;
+  addrinfo* list = nullptr;
+  if (getaddrinfo(HostOf(address).c_str(), PortOf(address).c_str(), &hints, &list) != 0)
+    return absl::UnavailableError(
+        absl::StrCat("cannot listen on ", address, ": cannot resolve the host"));
+  std::string why;
+  for (addrinfo* a = list; a && why.empty(); a = a->ai_next) {
+    const int fd = socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+    if (fd < 0) continue;
+    const int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);  // as gRPC does
+    if (bind(fd, a->ai_addr, a->ai_addrlen) != 0)
+      why = errno == EADDRINUSE ? "the port is already in use" : std::strerror(errno);
+    close(fd);
+  }
+  freeaddrinfo(list);
+  if (why.empty()) return absl::OkStatus();
+  return absl::UnavailableError(absl::StrCat("cannot listen on ", address, ": ", why));
+}
+
+std::string WithPort(const std::string& address, int port) {
+  const size_t colon = address.rfind(':');
+  return absl::StrCat(colon == std::string::npos ? address : address.substr(0, colon), ":", port);
 }
 
 }  // namespace gaitforge::coordinator

@@ -17,7 +17,14 @@ struct TlsFiles {
 };
 
 // "HOST:PORT" with HOST replaced by the IPv4 address of `iface` when iface is set.
+// INVALID_ARGUMENT unless PORT is a number in [0, 65535].
 absl::StatusOr<std::string> ResolveListen(const std::string& listen, const std::string& iface);
+// OK if a plain socket can bind `address` now; else UNAVAILABLE saying why ("cannot listen
+// on 127.0.0.1:50051: the port is already in use"). Checked before the database is
+// touched, and again to explain a failed gRPC bind.
+absl::Status TryBind(const std::string& address);
+// "HOST:PORT" with PORT replaced (for logging the port a ":0" listener really got).
+std::string WithPort(const std::string& address, int port);
 // True for 127.0.0.0/8, ::1 and "localhost".
 bool IsLoopback(const std::string& host_port);
 absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(

@@ -22,6 +22,7 @@
 #include "services/coordinator/listen.h"
 #include "services/coordinator/metrics.h"
 #include "services/coordinator/services.h"
+#include "services/core/db_path.h"
 #include "services/core/flags.h"
 #include "services/core/logging.h"
 
@@ -97,7 +98,8 @@ int main(int argc, char** argv) {
   const int kMaxMessageBytes = max_message_mb << 20;
   if (log_format != "text" && log_format != "json")
     return Fail("--log-format: expected text or json, got '" + log_format + "'");
-  core::SetupLogging("coordinator", log_level, log_format == "json");
+  if (auto s = core::SetupLogging("coordinator", log_level, log_format == "json"); !s.ok())
+    return Fail(std::string(s.message()));
   auto address = coordinator::ResolveListen(listen, listen_interface);
   if (!address.ok()) return Fail(std::string(address.status().message()));
   auto creds = coordinator::MakeServerCredentials(tls, *address, insecure);
@@ -115,8 +117,8 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
 
   std::error_code ec;
-  const auto parent = std::filesystem::path(db).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (auto s = core::CheckDbPath(db); !s.ok()) return Fail(std::string(s.message()));
+  if (auto s = coordinator::TryBind(*address); !s.ok()) return Fail(std::string(s.message()));
   // One writing coordinator per database: a second would resume the same studies.
   if (!read_only) {
     const std::string lock_path = db + ".lock";
@@ -152,7 +154,10 @@ int main(int argc, char** argv) {
       return Fail("--metrics-listen " + metrics_listen + ": " + e.what());
     }
     exposer->RegisterCollectable(metrics.registry());
-    spdlog::info("metrics at http://{}/metrics", metrics_listen);
+    // The port really bound (port 0 in --metrics-listen picks one).
+    const auto ports = exposer->GetListeningPorts();
+    spdlog::info("metrics at http://{}/metrics",
+                 coordinator::WithPort(metrics_listen, ports.empty() ? 0 : ports[0]));
   }
   options.metrics = &metrics;
   if (max_recording_mb < 1 || max_recording_mb > 1024)
@@ -183,8 +188,14 @@ int main(int argc, char** argv) {
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PING_STRIKES, 0);
   // At most this many concurrent streams per connection (watchers, long polls).
   builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, 256);
+  // A port another process listens on is refused, not shared (SO_REUSEPORT is gRPC's
+  // default on Linux: a second coordinator would bind beside the first).
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || port == 0) return Fail("cannot listen on " + *address);
+  if (!server || port == 0) {
+    auto why = coordinator::TryBind(*address);
+    return Fail(why.ok() ? "cannot listen on " + *address : std::string(why.message()));
+  }
   spdlog::info("serving on {} port {} ({}, {}) with database {}", *address, port,
                tls.cert.empty() ? "plaintext" : "TLS",
                auth->enabled() ? "tokens required" : "no authentication", options.db_path);

@@ -54,6 +54,10 @@ Metrics::Metrics() : registry_(std::make_shared<prometheus::Registry>()) {
                .Name("gaitforge_study_best_fitness")
                .Help("Best fitness of the hall of fame, per study")
                .Register(r);
+  invalid_ = &prometheus::BuildGauge()
+                  .Name("gaitforge_study_invalid_members")
+                  .Help("Invalid members of the latest committed generation, per study")
+                  .Register(r);
   for (const char* o : {"valid", "invalid", "poisoned"}) evaluations_->Add({{"outcome", o}});
 }
 
@@ -81,9 +85,11 @@ void Metrics::SetQueue(double depth, double in_flight, double workers) {
   workers_->Set(workers);
 }
 
-void Metrics::SetStudy(const std::string& study_id, int generations_done, double best) {
+void Metrics::SetStudy(const std::string& study_id, int generations_done, double best,
+                       int invalid) {
   generation_->Add({{"study", study_id}}).Set(generations_done);
   best_->Add({{"study", study_id}}).Set(best);
+  invalid_->Add({{"study", study_id}}).Set(invalid);
 }
 
 void Metrics::Commit(double seconds) { commit_seconds_->Observe(seconds); }

@@ -23,7 +23,8 @@ class Metrics {
   // outcome: "valid", "invalid" or "poisoned".
   void Evaluated(const std::string& outcome, double seconds);
   void SetQueue(double depth, double in_flight, double workers);
-  void SetStudy(const std::string& study_id, int generations_done, double best);
+  // After each committed generation; `invalid`: its invalid members.
+  void SetStudy(const std::string& study_id, int generations_done, double best, int invalid);
   void Commit(double seconds);
 
  private:
@@ -42,6 +43,7 @@ class Metrics {
   prometheus::Histogram* commit_seconds_;
   prometheus::Family<prometheus::Gauge>* generation_;
   prometheus::Family<prometheus::Gauge>* best_;
+  prometheus::Family<prometheus::Gauge>* invalid_;
 };
 
 }  // namespace gaitforge::coordinator

@@ -1,6 +1,8 @@
 #include "services/core/flags.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 
 #include "absl/strings/str_cat.h"
@@ -10,15 +12,25 @@ namespace gaitforge::core {
 Flags::Flags(std::string usage, std::string summary)
     : usage_(std::move(usage)), summary_(std::move(summary)) {}
 
+void Flags::Register(Flag flag) {
+  // Two flags of one name: the parser would set only the last (a programming error).
+  for (const auto& f : flags_)
+    if (f.name == flag.name) {
+      std::fprintf(stderr, "flag --%s registered twice\n", flag.name.c_str());
+      std::abort();
+    }
+  flags_.push_back(std::move(flag));
+}
+
 void Flags::Add(const std::string& name, std::string* value, const std::string& help) {
-  flags_.push_back({name, help, *value, false, [value](const std::string& v) {
+  Register({name, help, *value, false, [value](const std::string& v) {
                       *value = v;
                       return absl::OkStatus();
                     }});
 }
 
 void Flags::Add(const std::string& name, int* value, const std::string& help) {
-  flags_.push_back({name, help, std::to_string(*value), false,
+  Register({name, help, std::to_string(*value), false,
                     [value, name](const std::string& v) {
                       char* end = nullptr;
                       errno = 0;
@@ -32,7 +44,7 @@ void Flags::Add(const std::string& name, int* value, const std::string& help) {
 }
 
 void Flags::Add(const std::string& name, int64_t* value, const std::string& help) {
-  flags_.push_back({name, help, std::to_string(*value), false,
+  Register({name, help, std::to_string(*value), false,
                     [value, name](const std::string& v) {
                       char* end = nullptr;
                       errno = 0;
@@ -46,7 +58,7 @@ void Flags::Add(const std::string& name, int64_t* value, const std::string& help
 }
 
 void Flags::Add(const std::string& name, double* value, const std::string& help) {
-  flags_.push_back({name, help, absl::StrCat(*value), false,
+  Register({name, help, absl::StrCat(*value), false,
                     [value, name](const std::string& v) {
                       char* end = nullptr;
                       double x = std::strtod(v.c_str(), &end);
@@ -59,7 +71,7 @@ void Flags::Add(const std::string& name, double* value, const std::string& help)
 }
 
 void Flags::AddBool(const std::string& name, bool* value, const std::string& help) {
-  flags_.push_back({name, help, *value ? "true" : "false", true,
+  Register({name, help, *value ? "true" : "false", true,
                     [value, name](const std::string& v) {
                       if (v.empty() || v == "true" || v == "1") *value = true;
                       else if (v == "false" || v == "0") *value = false;
@@ -105,8 +117,16 @@ absl::Status Flags::Parse(int argc, char** argv, int first) {
 }
 
 std::string Flags::Help() const {
-  std::string out = absl::StrCat("usage: ", usage_, "\n\n", summary_, "\n\nflags:\n");
+  std::vector<std::string> all;
+  for (const auto& f : flags_) all.push_back(f.name);
+  return Help(usage_, summary_, all);
+}
+
+std::string Flags::Help(const std::string& usage, const std::string& summary,
+                        const std::vector<std::string>& only) const {
+  std::string out = absl::StrCat("usage: ", usage, "\n\n", summary, "\n\nflags:\n");
   for (const auto& f : flags_) {
+    if (std::find(only.begin(), only.end(), f.name) == only.end()) continue;
     std::string head = absl::StrCat("  --", f.name, f.is_bool ? "" : " VALUE");
     if (head.size() < 28) head.resize(28, ' ');
     else head += "\n" + std::string(28, ' ');

@@ -11,7 +11,8 @@ namespace gaitforge::core {
 
 class Flags {
  public:
-  // usage: "gaitforge-worker [flags]"; summary: one paragraph shown by --help.
+  // usage: "gaitforge-worker [flags]"; summary: one paragraph shown by --help. Each name
+  // may be added once.
   Flags(std::string usage, std::string summary);
 
   void Add(const std::string& name, std::string* value, const std::string& help);
@@ -26,6 +27,10 @@ class Flags {
   bool help_requested() const { return help_; }
   const std::vector<std::string>& positional() const { return positional_; }
   std::string Help() const;
+  // Help for a part of the program (a subcommand): its own usage and summary, and only the
+  // flags named in `only`, in registration order.
+  std::string Help(const std::string& usage, const std::string& summary,
+                   const std::vector<std::string>& only) const;
 
  private:
   struct Flag {
@@ -35,6 +40,9 @@ class Flags {
     bool is_bool = false;
     std::function<absl::Status(const std::string&)> set;
   };
+  // Adds a flag; a name registered twice aborts.
+  void Register(Flag flag);
+
   std::string usage_, summary_;
   std::vector<Flag> flags_;
   std::vector<std::string> positional_;

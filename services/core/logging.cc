@@ -89,10 +89,15 @@ std::string JsonLogLine(const std::string& time, const std::string& level,
   return out + "}";
 }
 
-void SetupLogging(const std::string& program, const std::string& level, bool json) {
+absl::Status SetupLogging(const std::string& program, const std::string& level, bool json) {
+  // spdlog reads an unknown name as "off": logging would stop without a word.
+  const auto parsed = spdlog::level::from_str(level);
+  if (parsed == spdlog::level::off && level != "off")
+    return absl::InvalidArgumentError(
+        "--log-level: expected trace, debug, info, warn, error or off, got '" + level + "'");
   auto logger = spdlog::stderr_color_mt(program);
   spdlog::set_default_logger(logger);
-  spdlog::set_level(spdlog::level::from_str(level));
+  spdlog::set_level(parsed);
   if (json) {
     auto formatter = std::make_unique<spdlog::pattern_formatter>();
     formatter->add_flag<JsonFlag>('*', program).set_pattern("%*");
@@ -100,6 +105,7 @@ void SetupLogging(const std::string& program, const std::string& level, bool jso
   } else {
     spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %n[%P] %v");
   }
+  return absl::OkStatus();
 }
 
 }  // namespace gaitforge::core

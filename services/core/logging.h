@@ -5,10 +5,14 @@
 // filtered by study, generation, job and worker.
 #include <string>
 
+#include "absl/status/status.h"
+
 namespace gaitforge::core {
 
-// level: trace|debug|info|warn|error|off.
-void SetupLogging(const std::string& program, const std::string& level, bool json = false);
+// level: trace|debug|info|warn|error|off; another is INVALID_ARGUMENT naming the flag
+// (`--log-level`) and nothing is set up.
+absl::Status SetupLogging(const std::string& program, const std::string& level,
+                          bool json = false);
 
 // The JSON line for one message (exposed for tests).
 std::string JsonLogLine(const std::string& time, const std::string& level,

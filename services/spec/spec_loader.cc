@@ -3,9 +3,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -23,17 +25,20 @@ using google::protobuf::Reflection;
 
 class Converter {
  public:
-  Converter(std::string source, std::map<std::string, Mark>* marks)
-      : source_(std::move(source)), marks_(marks) {}
+  Converter(std::string source, std::map<std::string, Mark>* marks,
+            std::map<std::string, std::string>* clamped)
+      : source_(std::move(source)), marks_(marks), clamped_(clamped) {}
 
   absl::Status Fill(const YAML::Node& node, Message* msg, const std::string& path) {
     const Descriptor* d = msg->GetDescriptor();
     if (!node.IsMap())
       return Error(node, path, absl::StrCat("expected a mapping of ", d->name(), " fields"));
+    std::map<std::string, YAML::Mark> seen;
     for (auto it = node.begin(); it != node.end(); ++it) {
       const std::string key = it->first.Scalar();
       const FieldDescriptor* f = d->FindFieldByName(key);
       const std::string fpath = path.empty() ? key : absl::StrCat(path, ".", key);
+      if (auto s = Once(it->first, fpath, &seen); !s.ok()) return s;
       if (!f) {
         std::vector<std::string> known;
         for (int i = 0; i < d->field_count(); ++i) known.push_back(d->field(i)->name());
@@ -48,6 +53,20 @@ class Converter {
   }
 
  private:
+  // A key written twice in one mapping is an error naming both lines (YAML lets the last
+  // one win, silently).
+  absl::Status Once(const YAML::Node& key, const std::string& path,
+                    std::map<std::string, YAML::Mark>* seen) {
+    const auto [it, fresh] = seen->emplace(key.Scalar(), key.Mark());
+    if (fresh) return absl::OkStatus();
+    const int first = it->second.line + 1, again = key.Mark().line + 1;
+    return Error(key, path,
+                 first == again
+                     ? absl::StrCat("written twice on line ", first, "; keep one")
+                     : absl::StrCat("written twice, on lines ", first, " and ", again,
+                                    "; keep one"));
+  }
+
   void Record(const YAML::Node& n, const std::string& path) {
     if (marks_) (*marks_)[path] = Mark{n.Mark().line + 1, n.Mark().column + 1};
   }
@@ -65,9 +84,11 @@ class Converter {
     if (f->is_map()) {
       if (!n.IsMap()) return Error(n, path, "expected a mapping of names to values");
       const Descriptor* entry = f->message_type();
+      std::map<std::string, YAML::Mark> seen;
       for (auto it = n.begin(); it != n.end(); ++it) {
         const std::string key = it->first.Scalar();
         const std::string epath = absl::StrCat(path, ".", key);
+        if (auto s = Once(it->first, epath, &seen); !s.ok()) return s;
         Record(it->first, epath);
         Message* e = r->AddMessage(msg, f);
         e->GetReflection()->SetString(e, entry->FindFieldByName("key"), key);
@@ -128,10 +149,17 @@ class Converter {
         const bool is32 = f->cpp_type() == FieldDescriptor::CPPTYPE_INT32;
         const long long lo = is32 ? std::numeric_limits<int32_t>::min() : LLONG_MIN;
         const long long hi = is32 ? std::numeric_limits<int32_t>::max() : LLONG_MAX;
-        if (!ParseInt(text, &v) || v < lo || v > hi)
+        const IntText parsed = ParseInt(text, &v);
+        if (parsed == IntText::kNotInteger || (!clamped_ && (parsed == IntText::kOverflow ||
+                                                             v < lo || v > hi)))
           return Error(n, path,
                        absl::StrCat("expected an integer in [", lo, ", ", hi, "], got '", text,
                                     "'"));
+        if (parsed == IntText::kOverflow || v < lo || v > hi) {
+          // Validation names the field's own range; the type's would only mislead.
+          v = std::clamp(v, lo, hi);
+          (*clamped_)[path] = text;
+        }
         if (is32)
           add ? r->AddInt32(msg, f, static_cast<int32_t>(v))
               : r->SetInt32(msg, f, static_cast<int32_t>(v));
@@ -185,12 +213,15 @@ class Converter {
     *v = std::strtod(s.c_str(), &end);
     return end && *end == '\0' && errno != ERANGE;
   }
-  static bool ParseInt(const std::string& s, long long* v) {
-    if (s.empty()) return false;
+  enum class IntText { kInteger, kOverflow, kNotInteger };
+  // kOverflow: an integer beyond long long; *v is LLONG_MIN or LLONG_MAX.
+  static IntText ParseInt(const std::string& s, long long* v) {
+    if (s.empty()) return IntText::kNotInteger;
     char* end = nullptr;
     errno = 0;
     *v = std::strtoll(s.c_str(), &end, 10);
-    return end && *end == '\0' && errno != ERANGE;
+    if (!end || *end != '\0') return IntText::kNotInteger;
+    return errno == ERANGE ? IntText::kOverflow : IntText::kInteger;
   }
   static bool ParseUint(const std::string& s, unsigned long long* v) {
     if (s.empty() || s[0] == '-') return false;
@@ -202,13 +233,14 @@ class Converter {
 
   std::string source_;
   std::map<std::string, Mark>* marks_;
+  std::map<std::string, std::string>* clamped_;
 };
 
 }  // namespace
 
 absl::Status ParseMessage(const std::string& text, const std::string& source,
-                          google::protobuf::Message* message,
-                          std::map<std::string, Mark>* marks) {
+                          google::protobuf::Message* message, std::map<std::string, Mark>* marks,
+                          std::map<std::string, std::string>* clamped) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -220,7 +252,7 @@ absl::Status ParseMessage(const std::string& text, const std::string& source,
   if (!root.IsDefined() || root.IsNull())
     return absl::InvalidArgumentError(absl::StrCat(source, ": the file is empty"));
   try {
-    return Converter(source, marks).Fill(root, message, "");
+    return Converter(source, marks, clamped).Fill(root, message, "");
   } catch (const YAML::Exception& e) {
     return absl::InvalidArgumentError(absl::StrCat(source, ":", e.mark.line + 1, ":",
                                                    e.mark.column + 1, ": ", e.msg));
@@ -230,11 +262,23 @@ absl::Status ParseMessage(const std::string& text, const std::string& source,
 absl::StatusOr<LoadedSpec> ParseSpec(const std::string& text, const std::string& source) {
   LoadedSpec out;
   out.source = source;
-  if (auto s = ParseMessage(text, source, &out.spec, &out.marks); !s.ok()) return s;
+  if (auto s = ParseMessage(text, source, &out.spec, &out.marks, &out.clamped); !s.ok())
+    return s;
+  // Written but empty: not "the objective's default space", which is what leaving it out
+  // means.
+  if (auto it = out.marks.find("bounds"); it != out.marks.end() && out.spec.bounds_size() == 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        source, ":", it->second.line, ":", it->second.column,
+        ": field 'bounds' is an empty list; give at least one gene, or leave 'bounds' out for "
+        "the objective's default space"));
   return out;
 }
 
 absl::StatusOr<LoadedSpec> LoadSpecFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return absl::InvalidArgumentError(
+        absl::StrCat("'", path, "' is a directory; give a spec file (.yaml or .json)"));
   std::ifstream in(path, std::ios::binary);
   if (!in) return absl::NotFoundError(absl::StrCat("cannot open spec file '", path, "'"));
   std::stringstream ss;

@@ -19,14 +19,20 @@ struct LoadedSpec {
   gaitforge::v1::StudySpec spec;
   std::string source;                  // file name, for messages
   std::map<std::string, Mark> marks;   // field path ("bounds[2].lo") -> where it was written
+  // Integers written beyond their type (path -> the text as written). The field holds the
+  // type's nearest bound, which validation refuses with the field's own allowed range.
+  std::map<std::string, std::string> clamped;
 };
 
 // Parses YAML (JSON is accepted as the YAML subset it is). `source` names the text in errors.
 absl::StatusOr<LoadedSpec> ParseSpec(const std::string& text, const std::string& source);
 absl::StatusOr<LoadedSpec> LoadSpecFile(const std::string& path);
 
-// Parses YAML/JSON text into any message, with the same rules (used for other file kinds).
+// Parses YAML/JSON text into any message, with the same rules (used for other file kinds):
+// unknown fields and keys written twice are errors. With `clamped`, an integer beyond its
+// type is stored as the type's nearest bound and listed there; without, it is an error.
 absl::Status ParseMessage(const std::string& text, const std::string& source,
-                          google::protobuf::Message* message, std::map<std::string, Mark>* marks);
+                          google::protobuf::Message* message, std::map<std::string, Mark>* marks,
+                          std::map<std::string, std::string>* clamped = nullptr);
 
 }  // namespace gaitforge::spec

@@ -133,11 +133,13 @@ void ValidateCmaes(const StudySpec& spec, std::vector<FieldError>& e) {
   if (spec.population() != 0 && (spec.population() < 4 || spec.population() > 100000))
     add("population", absl::StrCat("= ", spec.population(),
                                    " is out of range: 0 (default lambda) or [4, 100000]"));
+  const bool population_ok =
+      spec.population() == 0 || (spec.population() >= 4 && spec.population() <= 100000);
   const int n = spec.bounds_size();
   const int lambda = spec.population() != 0
                          ? spec.population()
                          : 4 + static_cast<int>(std::floor(3 * std::log(std::max(n, 1))));
-  if (c.max_evaluations() < lambda)
+  if (population_ok && c.max_evaluations() < lambda)
     add("cmaes.max_evaluations",
         absl::StrCat("= ", c.max_evaluations(), " is below one generation (lambda = ", lambda,
                      ")"));
@@ -188,7 +190,8 @@ void ValidateSweep(const StudySpec& spec, std::vector<FieldError>& e) {
     add("sweep.top_k", absl::StrCat("= ", w.top_k(), " is out of range [1, min(1000, grid size = ",
                                     grid, ")]"));
   const double first_batch = spec.population() > 0 ? std::min<double>(spec.population(), grid) : grid;
-  if (w.max_evaluations() > 0 && w.max_evaluations() < first_batch)
+  const bool population_ok = spec.population() >= 0 && spec.population() <= 10000000;
+  if (population_ok && w.max_evaluations() > 0 && w.max_evaluations() < first_batch)
     add("sweep.max_evaluations", absl::StrCat("= ", w.max_evaluations(),
                                               " is below the first grid batch (", first_batch, ")"));
   if (w.nm_max_iterations() < 0 || w.nm_max_iterations() > 1000000)
@@ -298,7 +301,9 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
 
   if (spec.engine() == "ga") {
     const auto& ga = spec.ga();
-    if (ga.elite() < 0 || ga.elite() >= spec.population())
+    // Against a bad population the elite's range means nothing: that error is reported.
+    const bool population_ok = spec.population() >= 2 && spec.population() <= kMaxPopulation;
+    if (population_ok && (ga.elite() < 0 || ga.elite() >= spec.population()))
       add("ga.elite", absl::StrCat("= ", ga.elite(), " is out of range [0, population - 1 = ",
                                    spec.population() - 1, "]"));
     if (!std::isfinite(ga.mutation_rate()) || ga.mutation_rate() < 0 || ga.mutation_rate() > 1)
@@ -318,7 +323,29 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
   return e;
 }
 
-absl::Status ValidationStatus(const std::vector<FieldError>& errors, const LoadedSpec* where) {
+namespace {
+
+// Errors about integers the loader clamped show the text as written, and a clamped
+// integer no rule refused (every spec integer has a narrower range) is still an error.
+std::vector<FieldError> WithWrittenIntegers(std::vector<FieldError> errors,
+                                            const LoadedSpec& where) {
+  for (const auto& [path, text] : where.clamped) {
+    bool reported = false;
+    for (auto& err : errors) {
+      if (err.path != path) continue;
+      reported = true;
+      if (err.message.rfind("= ", 0) == 0)
+        err.message = absl::StrCat("= ", text, err.message.substr(err.message.find(' ', 2)));
+    }
+    if (!reported) errors.push_back({path, absl::StrCat("= ", text, " is out of range")});
+  }
+  return errors;
+}
+
+}  // namespace
+
+absl::Status ValidationStatus(const std::vector<FieldError>& given, const LoadedSpec* where) {
+  const std::vector<FieldError> errors = where ? WithWrittenIntegers(given, *where) : given;
   if (errors.empty()) return absl::OkStatus();
   std::vector<std::string> lines;
   for (const auto& err : errors) {

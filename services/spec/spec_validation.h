@@ -23,7 +23,8 @@ void ApplyDefaults(gaitforge::v1::StudySpec* spec);
 std::vector<FieldError> Validate(const gaitforge::v1::StudySpec& spec);
 
 // INVALID_ARGUMENT listing every error as "field 'path' message" (OK if none). With
-// marks, each error is prefixed with "source:line:column: " where the field was written.
+// marks, each error is prefixed with "source:line:column: " where the field was written,
+// and integers the loader clamped are shown as written.
 absl::Status ValidationStatus(const std::vector<FieldError>& errors,
                               const LoadedSpec* where = nullptr);
 

@@ -10,6 +10,10 @@ namespace gaitforge::testing {
 
 std::string Bin(const std::string& name);
 
+// Rows of a query on a SQLite file, each as "col|col|" text (NULL for null), for exact
+// comparison between databases.
+std::vector<std::string> Rows(const std::string& db, const std::string& sql);
+
 struct CommandResult {
   int exit_code = -1;
   std::string out;  // stdout

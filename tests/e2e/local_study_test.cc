@@ -1,7 +1,6 @@
 // End to end: the real coordinator, real worker processes and the CLI over loopback gRPC,
 // checked against the SQLite file itself.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -25,26 +24,6 @@ objective:
   name: analytic.rastrigin
   params: {work_us: 200}
 )";
-
-// Rows of a query as text, for exact comparison between databases.
-std::vector<std::string> Rows(const std::string& db, const std::string& sql) {
-  sqlite3* h = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr), SQLITE_OK) << sql;
-  std::vector<std::string> rows;
-  while (sqlite3_step(st) == SQLITE_ROW) {
-    std::string row;
-    for (int c = 0; c < sqlite3_column_count(st); ++c) {
-      const auto* t = sqlite3_column_text(st, c);
-      row += (t ? reinterpret_cast<const char*>(t) : "NULL") + std::string("|");
-    }
-    rows.push_back(row);
-  }
-  sqlite3_finalize(st);
-  sqlite3_close(h);
-  return rows;
-}
 
 std::string RunStudy(const TempDir& dir, const std::string& db, int workers) {
   WriteFile(dir.File("spec.yaml"), kSpec);
@@ -95,6 +74,14 @@ TEST(EndToEnd, AStudyRunsOverGrpcAndIsStoredInSqlite) {
   EXPECT_EQ(std::count(history.out.begin(), history.out.end(), '\n'), 13);
   auto list = RunCommand(cli + "list --json");
   EXPECT_NE(list.out.find(id), std::string::npos);
+  // --version is the build identity the workers reported (pinned as the study's sim_build).
+  auto version = RunCommand(Bin("gaitforge") + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  ASSERT_FALSE(version.out.empty());
+  EXPECT_NE(list.out.find("\"sim_build\":\"" + version.out.substr(0, version.out.size() - 1) +
+                          "\""),
+            std::string::npos)
+      << version.out << list.out;
   EXPECT_EQ(RunCommand(cli + "show nope").exit_code, 3);
   EXPECT_EQ(RunCommand(cli + "hof " + id + " --generation 12").exit_code, 3);
 }

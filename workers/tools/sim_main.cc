@@ -19,7 +19,8 @@ using namespace gaitforge;
 int main(int argc, char** argv) {
   std::string params_path;  // empty: the built-in robots/caterpillar/robot.yaml
   std::string genes_text, out, scales_text = "0.5,2,16", periods_text = "0.2,2.0,19";
-  std::string set_text, recordings_text, out_dir, options_text = "error=shape", params_text;
+  std::string set_text, recordings_text, out_dir, options_text, objective_params_text;
+  std::string error_kind, metric, max_shift;  // empty: from --options/--objective-params
   double rate = 100;
   int cycles = 10, settle = 2;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -44,9 +45,13 @@ int main(int argc, char** argv) {
             "parameter overrides NAME=VALUE,... (names: docs/objectives.md, e.g. "
             "actuators.force_n, scale.link_stiffness); applied in order");
   flags.Add("recordings", &recordings_text, "calibration-eval: recording CSVs, comma separated");
+  flags.Add("error", &error_kind, "calibration-eval: shape, pointwise or stats (default shape)");
+  flags.Add("metric", &metric, "calibration-eval: rmse or mae (default rmse)");
+  flags.Add("max-shift", &max_shift,
+            "calibration-eval: max_shift_samples, 0..1000 (default 10)");
   flags.Add("options", &options_text,
             "calibration-eval: the objective's options NAME=VALUE;... (error, metric, channels)");
-  flags.Add("params", &params_text,
+  flags.Add("objective-params", &objective_params_text,
             "calibration-eval: the objective's params NAME=VALUE,... (max_shift_samples, ...)");
   flags.Add("out-dir", &out_dir, "calibration-eval: write each recording's simulated markers here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
@@ -106,12 +111,24 @@ int main(int argc, char** argv) {
       std::cerr << "gaitforge-sim: --options " << opts.status().message() << "\n";
       return 2;
     }
-    auto pars = simtool::ParseOverrides(params_text);
+    auto pars = simtool::ParseOverrides(objective_params_text);
     if (!pars.ok()) {
-      std::cerr << "gaitforge-sim: --params " << pars.status().message() << "\n";
+      std::cerr << "gaitforge-sim: --objective-params " << pars.status().message() << "\n";
       return 2;
     }
     std::map<std::string, double> objective_params(pars->begin(), pars->end());
+    // The named flags win over the same names in --options and --objective-params; a bad
+    // value makes every result invalid with the objective's reason.
+    if (!error_kind.empty()) (*opts)["error"] = error_kind;
+    if (!metric.empty()) (*opts)["metric"] = metric;
+    if (!max_shift.empty()) {
+      auto shift = simtool::ParseOverrides("max_shift_samples=" + max_shift);
+      if (!shift.ok()) {
+        std::cerr << "gaitforge-sim: --max-shift: expected a number, got '" << max_shift << "'\n";
+        return 2;
+      }
+      objective_params["max_shift_samples"] = shift->front().second;
+    }
     auto report = simtool::CalibrationEval(*params, *overrides, recordings_text, *opts,
                                            objective_params, out_dir, rate);
     if (!report.ok()) {

@@ -67,7 +67,10 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge-worker: --log-format: expected text or json\n";
     return 2;
   }
-  core::SetupLogging("worker", log_level, log_format == "json");
+  if (auto s = core::SetupLogging("worker", log_level, log_format == "json"); !s.ok()) {
+    std::cerr << "gaitforge-worker: " << s.message() << "\n";
+    return 2;
+  }
   sim::InitProcess();  // ODE, once per process, before any thread starts
 
   sigset_t sigs;

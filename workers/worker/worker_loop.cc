@@ -15,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "gaitforge/v1/recording.grpc.pb.h"
 #include "gaitforge/v1/worker.grpc.pb.h"
+#include "services/core/build_info.h"
 #include "services/rpc/channel.h"
 #include "workers/worker/batch_runner.h"
 #include "workers/worker/recording_cache.h"
@@ -71,13 +72,7 @@ class Backoff {
 
 }  // namespace
 
-std::string SimBuild() {
-#ifdef GAITFORGE_SIM_BUILD
-  return GAITFORGE_SIM_BUILD;
-#else
-  return "gaitforge-dev";
-#endif
-}
+std::string SimBuild() { return core::BuildId(); }
 
 int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry& registry,
               std::atomic<bool>& drain, WorkerStats* stats_out) {

@@ -118,6 +118,62 @@ TEST(SpecLoader, MissingFileIsNotFound) {
   EXPECT_NE(s.status().message().find("/no/such/spec.yaml"), std::string::npos);
 }
 
+TEST(SpecLoader, AKeyWrittenTwiceNamesBothLines) {
+  auto s = Check(std::string(kGood) + "population: 30\n");
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("s.yaml:9:1: field 'population': written twice, on lines 3 and 9; keep one"),
+            std::string::npos)
+      << s;
+  s = Check("objective:\n  name: analytic.sphere\n  params: {work_us: 1, work_us: 2}\n");
+  EXPECT_NE(s.message().find("s.yaml:3:24: field 'objective.params.work_us': written twice on line 3"),
+            std::string::npos)
+      << s;
+}
+
+TEST(SpecLoader, AnEmptyBoundsListIsAnErrorNotTheDefaultSpace) {
+  auto s = Check(std::string(kGood) + "bounds: []\n");
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("s.yaml:9:1: field 'bounds' is an empty list; give at least one "
+                             "gene, or leave 'bounds' out"),
+            std::string::npos)
+      << s;
+}
+
+TEST(SpecLoader, AnErrorThatFollowsFromAnotherIsNotReported) {
+  auto s = Check("population: 0\ngenerations: 2\nobjective: {name: analytic.sphere}\n");
+  EXPECT_NE(s.message().find("field 'population' = 0 is out of range [2, 100000]"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.message().find("ga.elite"), std::string::npos) << s;
+  s = Check("engine: cmaes\npopulation: 2\ngenerations: 2\nobjective: {name: analytic.sphere}\n"
+            "cmaes: {max_evaluations: 1}\n");
+  EXPECT_NE(s.message().find("field 'population' = 2 is out of range"), std::string::npos) << s;
+  EXPECT_EQ(s.message().find("below one generation"), std::string::npos) << s;
+}
+
+TEST(SpecLoader, IntegersBeyondTheirTypeGetTheFieldsRange) {
+  auto s = Check("population: 99999999999\ngenerations: 2\nobjective: {name: analytic.sphere}\n");
+  EXPECT_NE(s.message().find("s.yaml:1:1: field 'population' = 99999999999 is out of range "
+                             "[2, 100000]"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.message().find("2147483647"), std::string::npos) << s;
+  EXPECT_EQ(s.message().find("ga.elite"), std::string::npos) << s;
+  s = Check(std::string(kGood) + "ga: {elite: -99999999999999999999999}\n");
+  EXPECT_NE(s.message().find("field 'ga.elite' = -99999999999999999999999 is out of range [0, "
+                             "population - 1 = 19]"),
+            std::string::npos)
+      << s;
+}
+
+TEST(SpecLoader, ADirectoryGivenAsASpecSaysSo) {
+  gaitforge::testing::TempDir dir;
+  auto s = LoadSpecFile(dir.path());
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(s.status().message(),
+            "'" + dir.path() + "' is a directory; give a spec file (.yaml or .json)");
+}
+
 TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
   for (const char* f : {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml",
                         "examples/analytic-cmaes.yaml", "examples/analytic-sweep.yaml"}) {

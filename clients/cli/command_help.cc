@@ -1,0 +1,133 @@
+#include "clients/cli/command_help.h"
+
+#include "absl/strings/str_cat.h"
+
+namespace gaitforge::cli {
+namespace {
+
+// Flags of every command that talks to a coordinator (named or embedded).
+std::vector<std::string> Connection(std::vector<std::string> more) {
+  std::vector<std::string> out = {"coordinator", "db",       "timeout",   "tls-ca",
+                                  "tls-cert",    "tls-key",  "token-file"};
+  out.insert(out.end(), more.begin(), more.end());
+  return out;
+}
+
+std::vector<CommandHelp> Build() {
+  return {
+      {"local", "SPEC", "run a study on this machine: a coordinator, N workers, SQLite under ./runs/",
+       "Validates the spec, starts a coordinator on --db and --workers worker processes, runs\n"
+       "the study to its end with a progress bar, then draws its figures under --out.\n"
+       "Ctrl-C stops everything; 'gaitforge resume ID' continues the study.",
+       {"db", "timeout", "workers", "threads", "out", "json"},
+       "gaitforge local examples/analytic-ga.yaml --workers 2"},
+      {"submit", "SPEC", "create a study on a coordinator (--coordinator); prints its id",
+       "Validates the spec, uploads the recordings it names by file and creates the study on\n"
+       "--coordinator, whose workers run it.",
+       Connection({"json"}),
+       "gaitforge --coordinator head:50051 --tls-ca ca.crt submit examples/analytic-cmaes.yaml"},
+      {"watch", "ID", "progress bar until the study ends (exit 0 if it completed)",
+       "Shows the study's progress until it ends. Exit 0 if it completed, 1 if it failed or\n"
+       "was cancelled.",
+       Connection({"json"}), "gaitforge watch analytic-ga-3f09a1"},
+      {"list", "", "every study", "Every study: STUDY STATE OBJECTIVE GEN BEST EVALS.",
+       Connection({"json"}), "gaitforge list --db runs/gaitforge.db"},
+      {"show", "ID", "one study", "One study: its spec's essentials, state, progress and error.",
+       Connection({"json"}), "gaitforge show analytic-ga-3f09a1"},
+      {"hof", "ID", "hall of fame (--generation G for an earlier one)",
+       "The hall of fame after the latest generation, or after --generation G.",
+       Connection({"generation", "json", "csv"}),
+       "gaitforge hof analytic-ga-3f09a1 --generation 10"},
+      {"history", "ID", "best, mean and diversity per generation (--json or --csv)",
+       "Per generation: best, mean, standard deviation, diversity, evaluations and invalid\n"
+       "evaluations.",
+       Connection({"json", "csv"}), "gaitforge history analytic-ga-3f09a1 --csv > history.csv"},
+      {"individuals", "ID --generation G", "every member of --generation G (CSV, or --json)",
+       "Every member of generation G as CSV: member, valid, fitness, carried, worker,\n"
+       "eval_seconds, reason, genes.",
+       Connection({"generation", "json"}),
+       "gaitforge individuals analytic-ga-3f09a1 --generation 0"},
+      {"plot", "ID", "figures as SVG files (fitness per generation) under --out",
+       "Writes OUT/ID-history.json and OUT/ID-fitness.svg and prints the SVG's path.",
+       Connection({"out"}), "gaitforge plot analytic-ga-3f09a1 --out figures"},
+      {"report", "ID",
+       "caterpillar studies: fitness, gait diagrams, period sweep, travelling\n"
+       "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out",
+       "The fitness figure, then by objective: for caterpillar.distance the paper's figures\n"
+       "and the best gait's markers, for caterpillar.calibration the calibration report\n"
+       "(docs/cli.md). Prints every file written.",
+       Connection({"out"}), "gaitforge report caterpillar-ga-1c2d3e --out figures"},
+      {"trajectory", "ID --output FILE.csv",
+       "markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
+       "                  --rank R, --generation G, --rate HZ, --cycles N)",
+       "Simulates the hall-of-fame gait --rank R of the latest generation (or --generation G)\n"
+       "and writes its markers m1..m6 in the recording CSV format with a JSON sidecar.",
+       Connection({"output", "rank", "generation", "rate", "cycles"}),
+       "gaitforge trajectory caterpillar-ga-1c2d3e --rank 0 --rate 100 --output best.csv"},
+      {"diagnose", "SPEC",
+       "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
+       "                  fit it and show the held-out error fall (docs/diagnosis.md)",
+       "Calibrates the baseline, locates the mismatch, screens and refits the candidate\n"
+       "effects, and decides found / none / ambiguous (docs/diagnosis.md).",
+       Connection({"workers", "threads", "out", "json"}),
+       "gaitforge diagnose examples/diagnosis-hose.yaml --workers 2"},
+      {"recording", "add FILE.csv | list",
+       "recording add FILE.csv: upload a recording (+ FILE.csv.json); prints its hash;\n"
+       "                  recording list: the stored recordings",
+       "add: uploads FILE.csv and its sidecar (FILE.csv.json, or --sidecar F) and prints its\n"
+       "content hash. list: every stored recording.",
+       Connection({"sidecar", "json"}), "gaitforge recording add walk.csv"},
+      {"robots", "[NAME | FILE]",
+       "the built-in robots; one robot's parameters, genes and channels; a\n"
+       "                  descriptor file checked (docs/robots.md)",
+       "Without an argument: the built-in robots. With a built-in robot's name: its\n"
+       "parameters (value, range, whether a calibration may set it), scales, relations,\n"
+       "genes and recording channels. With a path: checks that descriptor file (exit 2 with\n"
+       "FILE:LINE:COLUMN on a mistake). Needs no coordinator.",
+       {"json"}, "gaitforge robots tests/fixtures/robots/twobox/robot.yaml"},
+      {"resume", "ID", "continue a cancelled or interrupted study",
+       "Continues a cancelled, failed or interrupted study: with --coordinator there, else\n"
+       "like 'local', with local workers.",
+       Connection({"workers", "threads", "out", "json"}), "gaitforge resume analytic-ga-3f09a1"},
+      {"cancel", "ID", "stop a study; its results stay", "Stops a study; its results stay.",
+       Connection({"json"}), "gaitforge cancel analytic-ga-3f09a1"},
+      {"health", "", "whether --coordinator serves (grpc.health.v1; no token needed)",
+       "Asks --coordinator (or GAITFORGE_COORDINATOR) whether it serves: prints SERVING and\n"
+       "exits 0, else says why and exits 4.",
+       {"coordinator", "timeout", "tls-ca", "tls-cert", "tls-key"},
+       "gaitforge --coordinator 127.0.0.1:50051 health"},
+  };
+}
+
+}  // namespace
+
+const std::vector<CommandHelp>& Commands() {
+  static const std::vector<CommandHelp> commands = Build();
+  return commands;
+}
+
+const CommandHelp* FindCommand(const std::string& name) {
+  for (const auto& c : Commands())
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+std::string CommandList() {
+  std::string out = "commands:\n";
+  for (const auto& c : Commands()) {
+    std::string head = absl::StrCat("  ", c.name, c.args.empty() ? "" : " ", c.args);
+    // Long argument lists get a line of their own.
+    if (head.size() < 18) head.resize(18, ' ');
+    else head += "\n" + std::string(18, ' ');
+    absl::StrAppend(&out, head, c.summary, "\n");
+  }
+  absl::StrAppend(
+      &out,
+      "\nWithout --coordinator, commands work on the local database (--db), starting a private\n"
+      "coordinator for as long as they run. 'gaitforge COMMAND --help' describes one command.\n"
+      "Exit codes: 0 ok, 1 study ended not completed, 2 bad input, 3 not found, 4 coordinator\n"
+      "unavailable, 5 other error, 6 token missing or not allowed (docs/cli.md).\n");
+  return out;
+}
+
+}  // namespace gaitforge::cli
