@@ -10,9 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "services/coordinator/metrics.h"
 #include "services/coordinator/constraints.h"
-#include "services/engines/cmaes/cmaes_engine.h"
-#include "services/engines/ga/ga_engine.h"
-#include "services/engines/sweep/sweep_engine.h"
+#include "services/spec/engine_kinds.h"
 #include "services/spec/spec_validation.h"
 
 namespace gaitforge::coordinator {
@@ -80,57 +78,10 @@ bool Coordinator::Finished(const Study& s) {
 
 absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
     const v1::StudySpec& spec) {
-  engines::Bounds bounds;
-  for (const auto& b : spec.bounds()) {
-    bounds.lo.push_back(b.lo());
-    bounds.hi.push_back(b.hi());
-  }
-  if (spec.engine() == "cmaes") {
-    const auto& s = spec.cmaes();
-    engines::cmaes::CmaesConfig c;
-    c.seed = spec.seed();
-    c.bounds = bounds;
-    c.mean0.assign(s.mean0().begin(), s.mean0().end());
-    c.sigma0_fraction = s.sigma0();
-    c.population = spec.population();
-    c.max_evaluations = s.max_evaluations();
-    c.restarts = engines::cmaes::ParseRestarts(s.restarts()).value_or(engines::cmaes::Restarts::kNone);
-    c.max_restarts = s.max_restarts();
-    c.tolfun = s.tolfun();
-    c.tolx = s.tolx();
-    if (s.has_stop_fitness()) c.stop_fitness = s.stop_fitness();
-    auto e = engines::cmaes::CmaesEngine::Create(c);
-    if (!e.ok()) return e.status();
-    return std::unique_ptr<engines::Engine>(std::move(*e));
-  }
-  if (spec.engine() == "sweep") {
-    const auto& s = spec.sweep();
-    engines::sweep::SweepConfig c;
-    c.seed = spec.seed();
-    c.bounds = bounds;
-    c.points_per_axis.assign(s.points_per_axis().begin(), s.points_per_axis().end());
-    c.top_k = s.top_k();
-    c.nm_max_iterations = s.nm_max_iterations();
-    c.nm_tolerance = s.nm_tolerance();
-    c.grid_batch = spec.population();
-    c.max_evaluations = s.max_evaluations();
-    auto e = engines::sweep::SweepEngine::Create(c);
-    if (!e.ok()) return e.status();
-    return std::unique_ptr<engines::Engine>(std::move(*e));
-  }
-  engines::ga::GaConfig c;
-  c.seed = spec.seed();
-  c.population = spec.population();
-  c.generations = spec.generations();
-  c.elite = spec.ga().elite();
-  c.mutation_rate = spec.ga().mutation_rate();
-  for (const auto& b : spec.bounds()) {
-    c.bounds.lo.push_back(b.lo());
-    c.bounds.hi.push_back(b.hi());
-  }
-  auto engine = engines::ga::GaEngine::Create(c);
-  if (!engine.ok()) return engine.status();
-  return std::unique_ptr<engines::Engine>(std::move(*engine));
+  const spec::EngineKind* kind = spec::FindEngineKind(spec.engine());
+  if (kind == nullptr)
+    return absl::InvalidArgumentError(absl::StrCat("unknown engine '", spec.engine(), "'"));
+  return kind->make(spec);
 }
 
 absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "services/coordinator/coordinator.h"
+#include "services/spec/engine_kinds.h"
 #include "services/coordinator/metrics.h"
 
 namespace gaitforge::coordinator {
@@ -356,7 +357,8 @@ v1::Progress Coordinator::MakeProgress(const Study* s, const storage::StudyRecor
     const double rate = t1 > t0 ? 1000.0 * static_cast<double>(e1 - e0) / (t1 - t0) : 0.0;
     p.set_evals_per_second(rate);
     const int pop = static_cast<int>(s->engine->Ask().size());
-    const int per_gen = std::max(1, pop - (s->spec.engine() == "ga" ? s->spec.ga().elite() : 0));
+    const spec::EngineKind* kind = spec::FindEngineKind(s->spec.engine());
+    const int per_gen = kind ? kind->evaluations_per_generation(s->spec, pop) : std::max(1, pop);
     const double left = static_cast<double>(r.generations_total - r.generations_done) * per_gen;
     if (rate > 0 && r.state == "running") p.set_eta_seconds(left / rate);
   }

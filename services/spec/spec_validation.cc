@@ -9,17 +9,17 @@
 #include "absl/strings/str_join.h"
 #include "robots/registry.h"
 #include "services/core/objective_catalog.h"
+#include "services/spec/engine_kinds.h"
 
 namespace gaitforge::spec {
 
 using gaitforge::v1::StudySpec;
 
-constexpr int kMaxPopulation = 100000;
 constexpr int kMaxGenerations = 100000;
 constexpr int kMaxGenes = 1000;
 
 void ApplyDefaults(StudySpec* spec) {
-  if (spec->engine().empty()) spec->set_engine("ga");
+  if (spec->engine().empty()) spec->set_engine(EngineKinds().front().name);
   if (spec->name().empty()) spec->set_name("study");
   if (spec->bounds_size() == 0) {
     if (const auto* info = core::FindObjective(spec->objective().name())) {
@@ -40,26 +40,7 @@ void ApplyDefaults(StudySpec* spec) {
   for (int i = 0; i < spec->bounds_size(); ++i) {
     if (spec->bounds(i).name().empty()) spec->mutable_bounds(i)->set_name(absl::StrCat("x", i));
   }
-  if (spec->engine() == "ga") {
-    auto* ga = spec->mutable_ga();
-    if (!ga->has_elite()) ga->set_elite(10);
-    if (!ga->has_mutation_rate()) ga->set_mutation_rate(0.10);
-  } else if (spec->engine() == "cmaes") {
-    auto* c = spec->mutable_cmaes();
-    if (!c->has_sigma0()) c->set_sigma0(0.3);
-    if (!c->has_max_evaluations()) c->set_max_evaluations(100000);
-    if (c->restarts().empty()) c->set_restarts("ipop");
-    if (!c->has_max_restarts()) c->set_max_restarts(9);
-    if (!c->has_tolfun()) c->set_tolfun(1e-12);
-    if (!c->has_tolx()) c->set_tolx(1e-12);
-  } else if (spec->engine() == "sweep") {
-    auto* w = spec->mutable_sweep();
-    if (w->points_per_axis_size() == 0) w->add_points_per_axis(5);
-    if (!w->has_top_k()) w->set_top_k(3);
-    if (!w->has_nm_max_iterations()) w->set_nm_max_iterations(200);
-    if (!w->has_nm_tolerance()) w->set_nm_tolerance(1e-8);
-    if (!w->has_max_evaluations()) w->set_max_evaluations(0);
-  }
+  if (const EngineKind* k = FindEngineKind(spec->engine())) k->apply_defaults(spec);
   for (auto& c : *spec->mutable_constraints()) {
     if (!c.has_scale()) c.set_scale(1.0);
   }
@@ -127,82 +108,6 @@ bool ValidateRobotGenes(const StudySpec& spec, std::vector<FieldError>& e) {
   return true;
 }
 
-void ValidateCmaes(const StudySpec& spec, std::vector<FieldError>& e) {
-  const auto& c = spec.cmaes();
-  auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
-  if (spec.population() != 0 && (spec.population() < 4 || spec.population() > 100000))
-    add("population", absl::StrCat("= ", spec.population(),
-                                   " is out of range: 0 (default lambda) or [4, 100000]"));
-  const bool population_ok =
-      spec.population() == 0 || (spec.population() >= 4 && spec.population() <= 100000);
-  const int n = spec.bounds_size();
-  const int lambda = spec.population() != 0
-                         ? spec.population()
-                         : 4 + static_cast<int>(std::floor(3 * std::log(std::max(n, 1))));
-  if (population_ok && c.max_evaluations() < lambda)
-    add("cmaes.max_evaluations",
-        absl::StrCat("= ", c.max_evaluations(), " is below one generation (lambda = ", lambda,
-                     ")"));
-  if (!(c.sigma0() > 0 && c.sigma0() <= 1))
-    add("cmaes.sigma0", absl::StrCat("= ", c.sigma0(), " is out of range (0, 1]"));
-  if (c.mean0_size() != 0 && c.mean0_size() != spec.bounds_size())
-    add("cmaes.mean0", absl::StrCat("has ", c.mean0_size(), " values; the space has ",
-                                    spec.bounds_size(), " genes"));
-  for (int i = 0; i < c.mean0_size() && c.mean0_size() == spec.bounds_size(); ++i) {
-    const auto& b = spec.bounds(i);
-    if (!(c.mean0(i) >= b.lo() && c.mean0(i) <= b.hi()))
-      add(absl::StrCat("cmaes.mean0[", i, "]"),
-          absl::StrCat("= ", c.mean0(i), " is outside bounds [", b.lo(), ", ", b.hi(), "]"));
-  }
-  if (c.max_evaluations() < 1 || c.max_evaluations() > 1000000000000LL)
-    add("cmaes.max_evaluations",
-        absl::StrCat("= ", c.max_evaluations(), " is out of range [1, 1e12]"));
-  if (c.restarts() != "none" && c.restarts() != "ipop" && c.restarts() != "bipop")
-    add("cmaes.restarts", absl::StrCat("'", c.restarts(), "' is not one of none, ipop, bipop"));
-  if (c.max_restarts() < 0 || c.max_restarts() > 20)
-    add("cmaes.max_restarts", absl::StrCat("= ", c.max_restarts(), " is out of range [0, 20]"));
-  if (!(c.tolfun() >= 0)) add("cmaes.tolfun", absl::StrCat("= ", c.tolfun(), " must be >= 0"));
-  if (!(c.tolx() >= 0)) add("cmaes.tolx", absl::StrCat("= ", c.tolx(), " must be >= 0"));
-}
-
-void ValidateSweep(const StudySpec& spec, std::vector<FieldError>& e) {
-  const auto& w = spec.sweep();
-  auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
-  if (spec.population() < 0 || spec.population() > 10000000)
-    add("population", absl::StrCat("= ", spec.population(),
-                                   " is out of range: 0 (whole grid) or [1, 1e7] grid points "
-                                   "per generation"));
-  if (w.points_per_axis_size() != 1 && w.points_per_axis_size() != spec.bounds_size())
-    add("sweep.points_per_axis",
-        absl::StrCat("has ", w.points_per_axis_size(), " values; give 1 or one per gene (",
-                     spec.bounds_size(), ")"));
-  double grid = 1;
-  for (int i = 0; i < w.points_per_axis_size(); ++i) {
-    const int p = w.points_per_axis(i);
-    if (p < 1 || p > 1000)
-      add(absl::StrCat("sweep.points_per_axis[", i, "]"),
-          absl::StrCat("= ", p, " is out of range [1, 1000]"));
-    grid *= w.points_per_axis_size() == 1 ? std::pow(p, spec.bounds_size()) : p;
-  }
-  if (grid > 1e7)
-    add("sweep.points_per_axis", absl::StrCat("make a grid of ", grid, " points; at most 1e7"));
-  if (w.top_k() < 1 || w.top_k() > 1000 || (grid >= 1 && w.top_k() > grid))
-    add("sweep.top_k", absl::StrCat("= ", w.top_k(), " is out of range [1, min(1000, grid size = ",
-                                    grid, ")]"));
-  const double first_batch = spec.population() > 0 ? std::min<double>(spec.population(), grid) : grid;
-  const bool population_ok = spec.population() >= 0 && spec.population() <= 10000000;
-  if (population_ok && w.max_evaluations() > 0 && w.max_evaluations() < first_batch)
-    add("sweep.max_evaluations", absl::StrCat("= ", w.max_evaluations(),
-                                              " is below the first grid batch (", first_batch, ")"));
-  if (w.nm_max_iterations() < 0 || w.nm_max_iterations() > 1000000)
-    add("sweep.nm_max_iterations",
-        absl::StrCat("= ", w.nm_max_iterations(), " is out of range [0, 1e6]"));
-  if (!(w.nm_tolerance() >= 0 && w.nm_tolerance() < 1))
-    add("sweep.nm_tolerance", absl::StrCat("= ", w.nm_tolerance(), " is out of range [0, 1)"));
-  if (w.max_evaluations() < 0)
-    add("sweep.max_evaluations", absl::StrCat("= ", w.max_evaluations(), " must be >= 0"));
-}
-
 }  // namespace
 
 std::vector<FieldError> Validate(const StudySpec& spec) {
@@ -210,19 +115,14 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
   auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
   if (spec.name().size() > 128)
     add("name", absl::StrCat("is ", spec.name().size(), " characters long; at most 128 allowed"));
-  const bool known_engine =
-      spec.engine() == "ga" || spec.engine() == "cmaes" || spec.engine() == "sweep";
-  if (!known_engine)
-    add("engine", absl::StrCat("'", spec.engine(), "' is not an engine; allowed: ga, cmaes, sweep"));
-  if (spec.engine() == "ga" && (spec.population() < 2 || spec.population() > kMaxPopulation))
-    add("population",
-        absl::StrCat("= ", spec.population(), " is out of range [2, ", kMaxPopulation, "]"));
-  if (spec.engine() != "ga" && spec.has_ga())
-    add("ga", absl::StrCat("is set but the engine is '", spec.engine(), "'"));
-  if (spec.engine() != "cmaes" && spec.has_cmaes())
-    add("cmaes", absl::StrCat("is set but the engine is '", spec.engine(), "'"));
-  if (spec.engine() != "sweep" && spec.has_sweep())
-    add("sweep", absl::StrCat("is set but the engine is '", spec.engine(), "'"));
+  const EngineKind* engine = FindEngineKind(spec.engine());
+  if (engine == nullptr)
+    add("engine", absl::StrCat("'", spec.engine(), "' is not an engine; allowed: ", EngineNames()));
+  for (const EngineKind& k : EngineKinds()) {
+    const auto* field = spec.GetDescriptor()->FindFieldByName(k.section);
+    if (k.name != spec.engine() && spec.GetReflection()->HasField(spec, field))
+      add(k.section, absl::StrCat("is set but the engine is '", spec.engine(), "'"));
+  }
   if (spec.generations() < 1 || spec.generations() > kMaxGenerations)
     add("generations",
         absl::StrCat("= ", spec.generations(), " is out of range [1, ", kMaxGenerations, "]"));
@@ -299,18 +199,7 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
       add(absl::StrCat(path, ".name"), absl::StrCat("'", b.name(), "' appears twice"));
   }
 
-  if (spec.engine() == "ga") {
-    const auto& ga = spec.ga();
-    // Against a bad population the elite's range means nothing: that error is reported.
-    const bool population_ok = spec.population() >= 2 && spec.population() <= kMaxPopulation;
-    if (population_ok && (ga.elite() < 0 || ga.elite() >= spec.population()))
-      add("ga.elite", absl::StrCat("= ", ga.elite(), " is out of range [0, population - 1 = ",
-                                   spec.population() - 1, "]"));
-    if (!std::isfinite(ga.mutation_rate()) || ga.mutation_rate() < 0 || ga.mutation_rate() > 1)
-      add("ga.mutation_rate", absl::StrCat("= ", ga.mutation_rate(), " is out of range [0, 1]"));
-  }
-  if (spec.engine() == "cmaes") ValidateCmaes(spec, e);
-  if (spec.engine() == "sweep") ValidateSweep(spec, e);
+  if (engine != nullptr) engine->validate(spec, e);
   for (int i = 0; i < spec.constraints_size(); ++i) {
     const auto& c = spec.constraints(i);
     const std::string path = absl::StrCat("constraints[", i, "]");

@@ -375,6 +375,9 @@ compose_health() {  # SERVICE: runs its healthcheck command in its environment
 }
 
 extra_args=()
+# compose mounts the named volume gaitforge-data there: the folder exists, as the
+# coordinator requires (it creates no folder for its database).
+mkdir -p "$tmp/compose/data"
 compose_run coordinator "$tmp/compose/coordinator.log" GAITFORGE_LISTEN="127.0.0.1:$grpc_port" \
   GAITFORGE_METRICS_LISTEN="127.0.0.1:$metrics_port" GAITFORGE_DB="$tmp/compose/data/gaitforge.db"
 compose_coord=$last_pid

@@ -1,0 +1,37 @@
+#include "services/spec/engine_kinds.h"
+
+#include "absl/strings/str_join.h"
+
+namespace gaitforge::spec {
+
+const std::vector<EngineKind>& EngineKinds() {
+  static const std::vector<EngineKind> kinds = {
+      GaEngineKind(),     // the caterpillar paper's GA (default)
+      CmaesEngineKind(),  // CMA-ES with IPOP/BIPOP restarts
+      SweepEngineKind(),  // grid, then Nelder-Mead
+  };
+  return kinds;
+}
+
+const EngineKind* FindEngineKind(std::string_view name) {
+  for (const auto& k : EngineKinds())
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+std::string EngineNames() {
+  std::vector<std::string> names;
+  for (const auto& k : EngineKinds()) names.push_back(k.name);
+  return absl::StrJoin(names, ", ");
+}
+
+engines::Bounds BoundsOf(const v1::StudySpec& spec) {
+  engines::Bounds bounds;
+  for (const auto& b : spec.bounds()) {
+    bounds.lo.push_back(b.lo());
+    bounds.hi.push_back(b.hi());
+  }
+  return bounds;
+}
+
+}  // namespace gaitforge::spec
