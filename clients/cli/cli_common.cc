@@ -249,6 +249,7 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
               << " watched), best fitness " << last.best() << ", " << last.evaluations()
               << " evaluations\n";
     if (!last.error().empty()) std::cerr << "error: " << last.error() << "\n";
+    if (!last.stop_reason().empty()) std::cerr << "stopped: " << last.stop_reason() << "\n";
   }
   return last.state() == v1::STUDY_STATE_COMPLETED ? kOk : kStudyNotCompleted;
 }

@@ -64,6 +64,7 @@ void PrintSummary(const v1::StudySummary& s, bool unheld) {
             << "best         " << s.best_fitness() << "\n"
             << "mean         " << s.mean_fitness() << "\n";
   if (!s.error().empty()) std::cout << "error        " << s.error() << "\n";
+  if (!s.stop_reason().empty()) std::cout << "stopped      " << s.stop_reason() << "\n";
   if (!s.db_path().empty()) std::cout << "database     " << s.db_path() << "\n";
 }
 

@@ -90,7 +90,8 @@ TEST_F(Interrupt, ALostCoordinatorAndCtrlCSayHowToContinue) {
   ASSERT_TRUE(WaitFor([&] { return Exited(local); }));
   const std::string hint = "continue it with 'gaitforge resume " + id + "'";
   const std::string err = ReadFile(dir_.File("local.err"));
-  EXPECT_NE(err.find("gaitforge: lost the coordinator while watching study " + id), std::string::npos)
+  EXPECT_NE(err.find("gaitforge: lost the coordinator while watching study " + id),
+            std::string::npos)
       << err;
   EXPECT_NE(err.find(hint), std::string::npos) << err;
   // Nothing runs the study now: list and watch say so; the file still says running.
