@@ -41,25 +41,43 @@ void SetCallToken(const std::string& token);
 // started on the database file for the life of this object.
 class Connection {
  public:
-  static std::unique_ptr<Connection> Open(const GlobalOptions& g, bool writable, std::string* error);
+  // Embedded mode: a write, or a `live` read, goes to the loopback coordinator that already
+  // holds the database (a running `gaitforge local`) if there is one, instead of failing
+  // on its lock or reading the file beside it.
+  static std::unique_ptr<Connection> Open(const GlobalOptions& g, bool writable, std::string* error,
+                                          bool live = false);
   std::shared_ptr<grpc::Channel> channel() const { return channel_; }
   ~Connection();
   v1::StudyService::Stub& study() { return *study_; }
   const std::string& target() const { return target_; }
   pid_t embedded_pid() const { return pid_; }
+  // True when talking to the coordinator that holds the database (see Open).
+  bool shared() const { return shared_; }
 
  private:
   std::string target_;
   pid_t pid_ = 0;
+  bool shared_ = false;
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::StudyService::Stub> study_;
 };
 
 // Opens a connection or prints why not and sets *code (kNotFound: no local database yet;
 // kUnavailable otherwise).
-std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code);
+std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code,
+                                    bool live = false);
+// Embedded mode without a coordinator holding the database: its `running` studies are
+// interrupted (their coordinator stopped or was killed) and wait for `gaitforge resume`.
+bool Unheld(const GlobalOptions& g);
+// The state as shown: "interrupted" for a running study when `unheld`.
+std::string ShownState(v1::StudyState s, bool unheld);
+// How to continue study `id` after its coordinator went away.
+std::string ContinueHint(const GlobalOptions& g, const std::string& id);
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target);
 void SetDeadline(grpc::ClientContext& ctx, double seconds);
+// GetStudy of `id` with the call deadline.
+grpc::Status FetchStudy(v1::StudyService::Stub& stub, const GlobalOptions& g,
+                        const std::string& id, v1::StudySummary* out);
 // Prints the error and returns the matching exit code.
 int ReportRpcError(const grpc::Status& s, const std::string& what);
 std::string ToJson(const google::protobuf::Message& m);

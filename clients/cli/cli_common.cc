@@ -37,7 +37,7 @@ void SetDeadline(grpc::ClientContext& ctx, double seconds) {
 }
 
 std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writable,
-                                             std::string* error) {
+                                             std::string* error, bool live) {
   std::unique_ptr<Connection> c(new Connection());
   if (!g.coordinator.empty()) {
     c->target_ = g.coordinator;
@@ -60,8 +60,17 @@ std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writab
                "': run 'gaitforge local SPEC' first, or name a server with --coordinator";
       return nullptr;
     }
-    c->pid_ = StartCoordinator(g.db, !writable, LogsDir(g), &c->target_, error);
-    if (c->pid_ < 0) return nullptr;
+    const auto holder = writable || live ? FindDbHolder(g.db) : std::nullopt;
+    if (holder && holder->address.rfind("127.0.0.1:", 0) == 0) {
+      c->target_ = holder->address;
+      c->shared_ = true;
+      if (!g.json)
+        std::cerr << "gaitforge: using the coordinator that holds " << g.db << " (pid "
+                  << holder->pid << ", " << holder->address << ")\n";
+    } else {
+      c->pid_ = StartCoordinator(g.db, !writable, LogsDir(g), &c->target_, error);
+      if (c->pid_ < 0) return nullptr;
+    }
   }
   // The embedded coordinator listens on loopback in plaintext; a named one as configured.
   rpc::ChannelOptions o{c->target_, "", "", "", ""};
@@ -82,9 +91,10 @@ Connection::~Connection() {
   if (pid_ > 0) Stop(pid_, 5);
 }
 
-std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code) {
+std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* code,
+                                    bool live) {
   std::string error;
-  auto c = Connection::Open(g, writable, &error);
+  auto c = Connection::Open(g, writable, &error, live);
   if (!c) {
     std::cerr << "gaitforge: " << error << "\n";
     *code = error.rfind("no database", 0) == 0 ? kNotFound
@@ -92,6 +102,15 @@ std::unique_ptr<Connection> Connect(const GlobalOptions& g, bool writable, int* 
                                                : kUnavailable;
   }
   return c;
+}
+
+grpc::Status FetchStudy(v1::StudyService::Stub& stub, const GlobalOptions& g,
+                        const std::string& id, v1::StudySummary* out) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(id);
+  return stub.GetStudy(&ctx, req, out);
 }
 
 int ReportRpcError(const grpc::Status& s, const std::string& what) {
@@ -132,6 +151,20 @@ std::string StateName(v1::StudyState s) {
     case v1::STUDY_STATE_FAILED: return "failed";
     default: return "unknown";
   }
+}
+
+bool Unheld(const GlobalOptions& g) { return g.coordinator.empty() && !FindDbHolder(g.db); }
+
+std::string ShownState(v1::StudyState s, bool unheld) {
+  return unheld && s == v1::STUDY_STATE_RUNNING ? "interrupted" : StateName(s);
+}
+
+std::string ContinueHint(const GlobalOptions& g, const std::string& id) {
+  if (!g.coordinator.empty())
+    return "it goes on when the coordinator is back (it resumes running studies on start): "
+           "'gaitforge watch " + id + "'";
+  const std::string db = g.db == GlobalOptions().db ? "" : " --db " + g.db;
+  return "continue it with 'gaitforge resume " + id + db + "'";
 }
 
 std::string FormatDuration(double s) {
@@ -193,6 +226,17 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
   }
   if (tty) std::cerr << "\n";
   grpc::Status s = reader->Finish();
+  const bool lost = s.ok() ? any && last.state() == v1::STUDY_STATE_RUNNING
+                           : s.error_code() == grpc::StatusCode::UNAVAILABLE ||
+                                 s.error_code() == grpc::StatusCode::CANCELLED;
+  if (lost) {
+    // The coordinator stopped or died under the watch; the study's committed generations
+    // are safe in the database.
+    std::cerr << "gaitforge: lost the coordinator while watching study " << id
+              << (s.ok() ? "" : " (" + s.error_message() + ")")
+              << "; its committed generations are stored: " << ContinueHint(g, id) << "\n";
+    return kUnavailable;
+  }
   if (!s.ok()) return ReportRpcError(s, "watch " + id);
   if (!any) return kFailed;
   const double wall =
@@ -205,6 +249,7 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
               << " watched), best fitness " << last.best() << ", " << last.evaluations()
               << " evaluations\n";
     if (!last.error().empty()) std::cerr << "error: " << last.error() << "\n";
+    if (!last.stop_reason().empty()) std::cerr << "stopped: " << last.stop_reason() << "\n";
   }
   return last.state() == v1::STUDY_STATE_COMPLETED ? kOk : kStudyNotCompleted;
 }

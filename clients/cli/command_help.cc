@@ -15,7 +15,8 @@ std::vector<std::string> Connection(std::vector<std::string> more) {
 
 std::vector<CommandHelp> Build() {
   return {
-      {"local", "SPEC", "run a study on this machine: a coordinator, N workers, SQLite under ./runs/",
+      {"local", "SPEC",
+       "run a study on this machine: a coordinator, N workers, SQLite under ./runs/",
        "Validates the spec, starts a coordinator on --db and --workers worker processes, runs\n"
        "the study to its end with a progress bar, then draws its figures under --out.\n"
        "Ctrl-C stops everything; 'gaitforge resume ID' continues the study.",
@@ -52,7 +53,8 @@ std::vector<CommandHelp> Build() {
        Connection({"out"}), "gaitforge plot analytic-ga-3f09a1 --out figures"},
       {"report", "ID",
        "caterpillar studies: fitness, gait diagrams, period sweep, travelling\n"
-       "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, under --out",
+       "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, "
+       "under --out",
        "The fitness figure, then by objective: for caterpillar.distance the paper's figures\n"
        "and the best gait's markers, for caterpillar.calibration the calibration report\n"
        "(docs/cli.md). Prints every file written.",

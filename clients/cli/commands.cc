@@ -50,10 +50,10 @@ std::string CsvQuote(const std::string& s) {
   return out + "\"";
 }
 
-void PrintSummary(const v1::StudySummary& s) {
+void PrintSummary(const v1::StudySummary& s, bool unheld) {
   std::cout << "study        " << s.study_id() << "\n"
             << "name         " << s.spec().name() << "\n"
-            << "state        " << StateName(s.state()) << "\n"
+            << "state        " << ShownState(s.state(), unheld) << "\n"
             << "engine       " << s.spec().engine() << "\n"
             << "objective    " << s.spec().objective().name() << "\n"
             << "seed         " << s.spec().seed() << "\n"
@@ -64,6 +64,7 @@ void PrintSummary(const v1::StudySummary& s) {
             << "best         " << s.best_fitness() << "\n"
             << "mean         " << s.mean_fitness() << "\n";
   if (!s.error().empty()) std::cout << "error        " << s.error() << "\n";
+  if (!s.stop_reason().empty()) std::cout << "stopped      " << s.stop_reason() << "\n";
   if (!s.db_path().empty()) std::cout << "database     " << s.db_path() << "\n";
 }
 
@@ -111,8 +112,20 @@ int CmdSubmit(const GlobalOptions& g, const std::vector<std::string>& args) {
 int CmdWatch(const GlobalOptions& g, const std::vector<std::string>& args) {
   if (int c = NeedArgs(args, 1, "gaitforge watch STUDY_ID"); c) return c;
   int code = kOk;
-  auto conn = Connect(g, false, &code);
+  auto conn = Connect(g, false, &code, /*live=*/true);
   if (!conn) return code;
+  if (Unheld(g)) {
+    // Nothing runs the study: the file would say "running" forever.
+    v1::StudySummary study;
+    grpc::Status s = FetchStudy(conn->study(), g, args[0], &study);
+    if (!s.ok()) return ReportRpcError(s, "watch " + args[0]);
+    if (study.state() == v1::STUDY_STATE_RUNNING) {
+      std::cerr << "gaitforge: study " << args[0] << " is interrupted: no coordinator runs it "
+                << "(the one that did stopped or was killed); " << ContinueHint(g, args[0])
+                << "\n";
+      return kStudyNotCompleted;
+    }
+  }
   return WatchUntilDone(conn->study(), args[0], g, 7 * 24 * 3600.0);
 }
 
@@ -130,11 +143,12 @@ int CmdList(const GlobalOptions& g, const std::vector<std::string>& args) {
     std::cout << ToJson(resp) << "\n";
     return kOk;
   }
-  std::cout << absl::StrFormat("%-32s %-10s %-12s %9s %12s %10s\n", "STUDY", "STATE",
+  const bool unheld = Unheld(g);
+  std::cout << absl::StrFormat("%-32s %-11s %-12s %9s %12s %10s\n", "STUDY", "STATE",
                                "OBJECTIVE", "GEN", "BEST", "EVALS");
   for (const auto& st : resp.studies()) {
-    std::cout << absl::StrFormat("%-32s %-10s %-12s %4d/%-4d %12.6g %10d\n", st.study_id(),
-                                 StateName(st.state()), st.spec().objective().name(),
+    std::cout << absl::StrFormat("%-32s %-11s %-12s %4d/%-4d %12.6g %10d\n", st.study_id(),
+                                 ShownState(st.state(), unheld), st.spec().objective().name(),
                                  st.generations_done(), st.spec().generations(),
                                  st.best_fitness(), st.evaluations());
   }
@@ -146,18 +160,14 @@ int CmdShow(const GlobalOptions& g, const std::vector<std::string>& args) {
   int code = kOk;
   auto conn = Connect(g, false, &code);
   if (!conn) return code;
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetStudyRequest req;
-  req.set_study_id(args[0]);
   v1::StudySummary resp;
-  grpc::Status s = conn->study().GetStudy(&ctx, req, &resp);
+  grpc::Status s = FetchStudy(conn->study(), g, args[0], &resp);
   if (!s.ok()) return ReportRpcError(s, "show " + args[0]);
   if (g.json) {
     std::cout << ToJson(resp) << "\n";
     return kOk;
   }
-  PrintSummary(resp);
+  PrintSummary(resp, Unheld(g));
   // The latest generation's invalid members, from its history row.
   grpc::ClientContext hctx;
   SetDeadline(hctx, g.timeout_s);

@@ -1,8 +1,11 @@
 // The embedded default: `gaitforge local SPEC` and `gaitforge resume ID` without a
 // --coordinator start a coordinator and N worker processes on this machine, over a SQLite
 // file under ./runs/, run the study to its end and leave everything queryable.
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstring>
 #include <functional>
 #include <iostream>
 
@@ -15,14 +18,32 @@ int LoadSpec(const std::string& path, v1::StudySpec* out);
 
 namespace {
 
+char interrupt_note[1024];
+size_t interrupt_note_size = 0;
+
+void OnInterrupt(int) {
+  (void)!write(STDERR_FILENO, interrupt_note, interrupt_note_size);
+  _exit(130);
+}
+
+// On Ctrl-C, says what happened and how to continue, and exits 130. The coordinator and
+// the workers get the signal too (or SIGTERM as this process ends) and stop cleanly; the
+// study stays `running` in the database, every committed generation kept.
+void ExplainInterrupt(const GlobalOptions& g, const std::string& id) {
+  const std::string note = "\ngaitforge: interrupted; study " + id + " is stored in " + g.db +
+                           " up to its last committed generation: " + ContinueHint(g, id) +
+                           "\n";
+  interrupt_note_size = std::min(note.size(), sizeof interrupt_note);
+  std::memcpy(interrupt_note, note.data(), interrupt_note_size);
+  struct sigaction sa = {};
+  sa.sa_handler = OnInterrupt;
+  sigaction(SIGINT, &sa, nullptr);
+}
+
 // The study as the coordinator has it (empty summary if the call fails).
 v1::StudySummary Summary(Connection& conn, const std::string& id, const GlobalOptions& g) {
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetStudyRequest req;
-  req.set_study_id(id);
   v1::StudySummary s;
-  (void)conn.study().GetStudy(&ctx, req, &s);
+  (void)FetchStudy(conn.study(), g, id, &s);
   return s;
 }
 
@@ -35,12 +56,14 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   const std::string logs = LogsDir(g);
   std::string id = start(conn.study());
   if (id.empty()) return *start_code;
+  ExplainInterrupt(g, id);
   std::vector<pid_t> pids = StartLocalWorkers(g, conn.target(), workers, threads);
   if (!g.json)
     std::cerr << "study " << id << ": " << workers << " local worker(s) x " << threads
               << " thread(s); database " << g.db << "; logs in " << logs << "/\n";
   const int code = WatchUntilDone(conn.study(), id, g, 30 * 24 * 3600.0);
-  for (pid_t p : pids) Stop(p, 10);
+  // Workers drain their batch to the coordinator; without one there is nothing to drain.
+  for (pid_t p : pids) Stop(p, code == kUnavailable ? 1 : 10);
   if (code == kOk) {
     std::vector<std::string> figures;
     const v1::StudySummary study = Summary(conn, id, g);

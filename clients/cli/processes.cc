@@ -109,6 +109,27 @@ int WaitForPortFile(const std::string& path, pid_t pid, double timeout_s) {
   return -1;
 }
 
+std::optional<DbHolder> FindDbHolder(const std::string& db) {
+  std::ifstream lock(db + ".lock");
+  DbHolder h;
+  if (!(lock >> h.pid) || h.pid <= 0) return std::nullopt;
+  lock >> h.address;
+  // Alive (not a zombie nobody reaped), and a coordinator (a recycled pid would be another
+  // program): /proc/PID/stat is "PID (COMM) STATE ...", COMM cut to 15 characters.
+  std::ifstream stat("/proc/" + std::to_string(h.pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return std::nullopt;
+  const size_t open = line.find('('), close = line.rfind(')');
+  if (open == std::string::npos || close == std::string::npos || close + 2 >= line.size())
+    return std::nullopt;
+  const std::string comm = line.substr(open + 1, close - open - 1);
+  const char state = line[close + 2];
+  if (comm != std::string("gaitforge-coordinator").substr(0, 15) || state == 'Z' ||
+      state == 'X')
+    return std::nullopt;
+  return h;
+}
+
 pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
                        std::string* target, std::string* error) {
   std::error_code ec;

@@ -2,6 +2,7 @@
 // Child processes of `gaitforge local`: the coordinator and the workers.
 #include <sys/types.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,13 @@ int RunCapture(const std::vector<std::string>& argv, std::string* out);
 void Stop(pid_t pid, double grace_s);
 // Waits for the coordinator's --port-file; returns the port or -1 (child died or timeout).
 int WaitForPortFile(const std::string& path, pid_t pid, double timeout_s);
+// The live coordinator that holds db's write lock, from DB.lock ("PID\nHOST:PORT\n", the
+// address once it serves); nullopt if that process is gone (killed, or stopped).
+struct DbHolder {
+  pid_t pid = 0;
+  std::string address;  // empty while it starts
+};
+std::optional<DbHolder> FindDbHolder(const std::string& db);
 // Starts a coordinator on db, listening on loopback; returns its pid and "127.0.0.1:port".
 pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
                        std::string* target, std::string* error);

@@ -198,12 +198,8 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
     return kNotFound;
   }
   // The study's own model (a corrected model's `set`, its timestep and settling).
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetStudyRequest req;
-  req.set_study_id(args[0]);
   v1::StudySummary study;
-  if (grpc::Status s = conn->study().GetStudy(&ctx, req, &study); !s.ok())
+  if (grpc::Status s = FetchStudy(conn->study(), g, args[0], &study); !s.ok())
     return ReportRpcError(s, "trajectory " + args[0]);
   double timestep_s = 0;
   std::string printed;
@@ -227,12 +223,8 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
   auto conn = Connect(g, false, &code);
   if (!conn) return code;
   std::vector<std::string> written;
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetStudyRequest req;
-  req.set_study_id(args[0]);
   v1::StudySummary study;
-  grpc::Status s = conn->study().GetStudy(&ctx, req, &study);
+  grpc::Status s = FetchStudy(conn->study(), g, args[0], &study);
   if (!s.ok()) return ReportRpcError(s, "report " + args[0]);
   code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
   const std::string& objective = study.spec().objective().name();

@@ -25,6 +25,9 @@ case "$mode" in
   coordinator)
     export GAITFORGE_LISTEN="${GAITFORGE_LISTEN:-0.0.0.0:50051}"
     export GAITFORGE_DB="${GAITFORGE_DB:-/var/lib/gaitforge/gaitforge.db}"
+    # The coordinator creates no directories (a mistyped --db is an error); the container's
+    # state directory is ours to make.
+    mkdir -p "$(dirname "$GAITFORGE_DB")"
     gf_coordinator_argv "$@"
     exec "${GF_ARGV[@]}"
     ;;

@@ -416,7 +416,22 @@ absl::StatusOr<storage::StudyRecord> Coordinator::Record(const std::string& id) 
 absl::StatusOr<v1::StudySummary> Coordinator::GetStudy(const std::string& id) {
   auto r = Record(id);
   if (!r.ok()) return r.status();
-  return Summarize(*r);
+  v1::StudySummary out = Summarize(*r);
+  out.set_stop_reason(StopReason(*r));
+  return out;
+}
+
+std::string Coordinator::StopReason(const storage::StudyRecord& r) {
+  if (r.state != "completed") return "";
+  if (r.generations_done >= r.generations_total)
+    return absl::StrCat("its ", r.generations_total, " generations are done");
+  if (!store_->Flush().ok()) return "";  // the last commit may still be in flight
+  auto latest = store_->LatestEngineState(r.study_id);
+  v1::StudySpec spec;
+  if (!latest.ok() || !*latest || !spec.ParseFromString(r.spec)) return "";
+  auto engine = MakeEngine(spec);
+  if (!engine.ok() || !(*engine)->LoadState((*latest)->second).ok()) return "";
+  return (*engine)->StopReason();
 }
 
 absl::StatusOr<std::vector<v1::StudySummary>> Coordinator::ListStudies() {
@@ -559,22 +574,36 @@ absl::StatusOr<v1::ListIndividualsResponse> Coordinator::Individuals(const std::
 }
 
 absl::StatusOr<std::pair<v1::Progress, int64_t>> Coordinator::Progress(const std::string& id) {
+  std::optional<std::pair<v1::Progress, int64_t>> live;
+  storage::StudyRecord record;
   {
     std::lock_guard<std::mutex> l(mu_);
     auto it = studies_.find(id);
-    if (it != studies_.end())
-      return std::make_pair(MakeProgress(it->second.get(), it->second->record), version_);
+    if (it != studies_.end()) {
+      live = std::make_pair(MakeProgress(it->second.get(), it->second->record), version_);
+      record = it->second->record;
+    }
+  }
+  if (live) {
+    live->first.set_stop_reason(StopReason(record));
+    return *live;
   }
   auto r = store_->GetStudy(id);
   if (!r.ok()) return r.status();
   auto generations = store_->History(id);  // another coordinator's study: its latest row
-  std::lock_guard<std::mutex> l(mu_);
-  v1::Progress p = MakeProgress(nullptr, *r);
+  v1::Progress p;
+  int64_t version;
+  {
+    std::lock_guard<std::mutex> l(mu_);
+    p = MakeProgress(nullptr, *r);
+    version = version_;
+  }
   if (generations.ok() && !generations->empty()) {
     p.set_invalid(generations->back().invalid);
     p.set_invalid_reason(generations->back().invalid_reason);
   }
-  return std::make_pair(p, version_);
+  p.set_stop_reason(StopReason(*r));
+  return std::make_pair(p, version);
 }
 
 }  // namespace gaitforge::coordinator

@@ -113,6 +113,9 @@ class Coordinator {
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
   // The engine's spread after `generation` if that is the latest committed one.
   std::vector<double> SpreadAfter(const std::string& id, int generation);
+  // Why a completed study stopped ("" for other states), from its spec and its engine
+  // rebuilt from the latest stored state. Not under mu_.
+  std::string StopReason(const storage::StudyRecord& r);
   // Loads a study's engine from its last committed generation and schedules its jobs.
   absl::Status Activate(const storage::StudyRecord& record);
   void StartGeneration(Study& s, const std::vector<storage::IndividualRecord>& stored);

@@ -120,9 +120,10 @@ int main(int argc, char** argv) {
   if (auto s = core::CheckDbPath(db); !s.ok()) return Fail(std::string(s.message()));
   if (auto s = coordinator::TryBind(*address); !s.ok()) return Fail(std::string(s.message()));
   // One writing coordinator per database: a second would resume the same studies.
+  int lock_fd = -1;
   if (!read_only) {
     const std::string lock_path = db + ".lock";
-    const int fd = open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    const int fd = lock_fd = open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) return Fail("cannot open lock file " + lock_path);
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
       char buf[32] = {0};
@@ -195,6 +196,14 @@ int main(int argc, char** argv) {
   if (!server || port == 0) {
     auto why = coordinator::TryBind(*address);
     return Fail(why.ok() ? "cannot listen on " + *address : std::string(why.message()));
+  }
+  if (lock_fd >= 0) {
+    // The lock file says who holds the database and where: the CLI's embedded commands
+    // (cancel, resume, watch, ...) talk to this coordinator instead of failing on the lock.
+    const std::string holder =
+        std::to_string(getpid()) + "\n" + coordinator::DialAddress(*address, port) + "\n";
+    (void)!ftruncate(lock_fd, 0);
+    (void)!pwrite(lock_fd, holder.data(), holder.size(), 0);
   }
   spdlog::info("serving on {} port {} ({}, {}) with database {}", *address, port,
                tls.cert.empty() ? "plaintext" : "TLS",

@@ -57,6 +57,9 @@ class Engine {
   // Index of the generation Ask() returns; equals the number of Tell() calls so far.
   virtual int generation() const = 0;
   virtual bool Done() const = 0;
+  // Why the engine is Done(), in words for people ("" while it is not, or when it has no
+  // reason of its own to stop: the GA runs until the spec's generations are done).
+  virtual std::string StopReason() const { return ""; }
   // The members of the current generation; stable until the next Tell().
   virtual const std::vector<Candidate>& Ask() const = 0;
   // Evaluations of every member of the current generation, indexed by member. Checks all

@@ -77,8 +77,8 @@ TEST(Refusals, TheCliCreatesNothingOutsideTheDatabasesFolder) {
   ExpectRefused(dir, cli + "list --db data",
                 "gaitforge: --db data is a directory; name the database file, e.g. "
                 "data/gaitforge.db");
-  WriteFile(dir.File("s.yaml"), "population: 4\ngenerations: 1\nobjective: {name: analytic.sphere}\n"
-                                "ga: {elite: 1}\n");
+  WriteFile(dir.File("s.yaml"),
+            "population: 4\ngenerations: 1\nobjective: {name: analytic.sphere}\nga: {elite: 1}\n");
   ExpectRefused(dir, cli + "local s.yaml --db runz/x.db",
                 "gaitforge: --db runz/x.db: folder runz does not exist; create it first");
   // A bad spec stops `local` before a database or a log exists.

@@ -148,6 +148,17 @@ absl::Status CmaesEngine::Tell(const std::vector<Evaluation>& evals) {
   return absl::OkStatus();
 }
 
+std::string CmaesEngine::StopReason() const {
+  if (!done_) return "";
+  if (stop_reason_ == "stop_fitness")
+    return absl::StrCat("CMA-ES reached stop_fitness ", *config_.stop_fitness);
+  if (stop_reason_ == "max_evaluations")
+    return absl::StrCat("CMA-ES: another generation would pass max_evaluations = ",
+                        config_.max_evaluations, " (", evaluations_, " done)");
+  return absl::StrCat("CMA-ES: run ", runs(), " stopped on ", stop_reason_,
+                      " and no restart is left (restarts, max_restarts or the budget)");
+}
+
 void CmaesEngine::PushBest(double f) {
   // Enough history for tolfun: 10 + ceil(30 n / lambda) generations (tutorial, App. B.3).
   const size_t keep = 10 + (30 * n_ + params_.lambda - 1) / params_.lambda;

@@ -50,6 +50,7 @@ class CmaesEngine final : public Engine {
 
   int generation() const override { return generation_; }
   bool Done() const override { return done_; }
+  std::string StopReason() const override;
   const std::vector<Candidate>& Ask() const override { return candidates_; }
   absl::Status Tell(const std::vector<Evaluation>& by_member) override;
   std::vector<Ranked> HallOfFame() const override { return hof_.entries(); }

@@ -57,8 +57,18 @@ void SweepEngine::BuildCandidates() {
                                config_.max_evaluations;
   if (candidates_.empty() || over_budget) {
     done_ = true;
+    over_budget_ = over_budget;
     candidates_.clear();
   }
+}
+
+std::string SweepEngine::StopReason() const {
+  if (!done_) return "";
+  if (over_budget_)
+    return absl::StrCat("sweep: the next batch would pass max_evaluations = ",
+                        config_.max_evaluations, " (", evaluations_, " done)");
+  return absl::StrCat("sweep: the grid is done and every Nelder-Mead search has converged "
+                      "(nm_tolerance) or used nm_max_iterations");
 }
 
 void SweepEngine::StartSearches() {
@@ -177,6 +187,7 @@ absl::Status SweepEngine::LoadState(std::string_view state) {
   searches_ = std::move(searches);
   hof_.set_entries(std::move(hof));
   done_ = false;
+  over_budget_ = false;
   BuildCandidates();  // a pure function of the state above
   done_ = done_ || done;
   if (done_) candidates_.clear();

@@ -26,6 +26,7 @@ class SweepEngine final : public Engine {
 
   int generation() const override { return generation_; }
   bool Done() const override { return done_; }
+  std::string StopReason() const override;
   const std::vector<Candidate>& Ask() const override { return candidates_; }
   absl::Status Tell(const std::vector<Evaluation>& by_member) override;
   std::vector<Ranked> HallOfFame() const override { return hof_.entries(); }
@@ -49,6 +50,7 @@ class SweepEngine final : public Engine {
   int generation_ = 0;
   int64_t evaluations_ = 0;
   bool done_ = false;
+  bool over_budget_ = false;  // done because the next batch would pass max_evaluations
   int64_t grid_next_ = 0;           // first grid point not yet asked
   engines::HallOfFame grid_best_;   // the top_k grid points so far
   std::vector<NelderMead> searches_;
