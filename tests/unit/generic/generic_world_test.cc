@@ -86,3 +86,21 @@ TEST_F(GenericWorldTest, BadInputIsAReasonNotACrash) {
 
 }  // namespace
 }  // namespace gaitforge::generic
+
+namespace gaitforge::generic {
+namespace {
+// Two gaits of a GA run whose steps once ended in ODE's "LCP internal error, s <= 0" when
+// every corner of a box on the ground carried friction rows.
+TEST_F(GenericWorldTest, GaitsThatOnceBrokeTheSolverRunThrough) {
+  ParamValues v(TwoBox());
+  for (auto genes : std::vector<std::vector<double>>{
+           {1.3144351052245153, 0.68038351904409999, 0.23567323925262318, 0.50517718664047229},
+           {1.8949126434079326, 0.36331082255003094, 0.14127659686152216, 0.6853918893717541}}) {
+    GaitOptions o;
+    o.measured_cycles = 4;
+    const GaitResult r = EvaluateGait(TwoBox(), v, genes, o);
+    EXPECT_TRUE(r.valid) << r.reason;
+  }
+}
+}  // namespace
+}  // namespace gaitforge::generic

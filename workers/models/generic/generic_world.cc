@@ -62,9 +62,14 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
   std::unique_ptr<GenericWorld> w(new GenericWorld(d, h));
   dWorldSetGravity(w->world_.world(), 0, 0, -v("simulation.gravity_m_per_s2"));
-  // Rigid rows: the drift correction and softness ODE's own examples use.
-  dWorldSetERP(w->world_.world(), 0.2);
-  dWorldSetCFM(w->world_.world(), 1e-9);
+  // Rigid rows: drift correction and softness, the robot's simulation.solver_erp and
+  // simulation.solver_cfm when it gives them (a small positive CFM keeps the solver's
+  // matrix regular where rows over-constrain a body).
+  const auto optional = [&](const char* name, double fallback) {
+    return d.FindParameter(name) ? v(name) : fallback;
+  };
+  dWorldSetERP(w->world_.world(), optional("simulation.solver_erp", 0.2));
+  dWorldSetCFM(w->world_.world(), optional("simulation.solver_cfm", 1e-6));
   if (absl::Status s = w->BuildBodies(v); !s.ok()) return s;
   if (absl::Status s = w->BuildJoints(v); !s.ok()) return s;
   if (absl::Status s = w->BuildActuators(v); !s.ok()) return s;
