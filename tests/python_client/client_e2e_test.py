@@ -15,6 +15,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -83,13 +84,21 @@ def check_reads(gf, sid):
     return history, hof, members
 
 
-def check_errors(gf, errors):
+def check_errors(gf, tmp, errors):
     bad = dict(SPHERE, population=1)
     try:
         gf.submit(bad)
         check(False, "population 1 refused")
     except errors.InvalidSpec as e:
         check(e.field == "population" and e.exit_code == 2, f"InvalidSpec names 'population': {e}")
+    bad_file = os.path.join(tmp, "bad.json")
+    with open(bad_file, "w") as f:
+        json.dump(bad, f)
+    try:
+        gf.submit(bad_file)
+        check(False, "a spec file with population 1 refused")
+    except errors.InvalidSpec as e:
+        check(e.field == "population" and str(e).startswith(bad_file), f"InvalidSpec names the file: {e}")
     try:
         gf.submit(dict(SPHERE, generatons=3))
         check(False, "unknown key refused")
@@ -143,6 +152,27 @@ def compare_with_cli(bin_dir, db, sid, history, hof, members):
     check([c["genes"] for c in cli] == [m["genes"] for m in members], "individuals equal `gaitforge individuals --json`")
 
 
+def check_lost_coordinator(gf, proc, errors):
+    """A study with no workers is watched while its coordinator stops: Unavailable."""
+    sid = gf.submit(SPHERE)
+    started, outcome = threading.Event(), []
+
+    def watch():
+        try:
+            gf.watch(sid, on_progress=lambda p: started.set())
+            outcome.append(None)
+        except errors.GaitforgeError as e:
+            outcome.append(e)
+
+    watcher = threading.Thread(target=watch)
+    watcher.start()
+    check(started.wait(30), "watch of a study no worker runs sends progress")
+    proc.terminate()
+    proc.wait(10)
+    watcher.join(30)
+    check(outcome and isinstance(outcome[0], errors.Unavailable), f"Unavailable when the coordinator stops: {outcome}")
+
+
 def check_tokens(bin_dir, tmp, Client, errors):
     token = "python-client-token-0123456789"
     port_file = os.path.join(tmp, "token.port")
@@ -160,9 +190,9 @@ def check_tokens(bin_dir, tmp, Client, errors):
             check(False, "a call without a token refused")
         except errors.Denied as e:
             check(e.exit_code == 6, f"Denied without a token: {e}")
-        check(Client(target, token=token).studies() == [], "the client token is accepted")
-        proc.terminate()
-        proc.wait(10)
+        gf = Client(target, token=token)
+        check(gf.studies() == [], "the client token is accepted")
+        check_lost_coordinator(gf, proc, errors)
         try:
             Client(target, token=token, timeout=2).studies()
             check(False, "a stopped coordinator is unavailable")
@@ -188,7 +218,7 @@ def main():
         with Client.local(db=db, workers=2, binaries=os.path.abspath(a.bin_dir)) as gf:
             sid = run_sphere(gf, seen)
             history, hof, members = check_reads(gf, sid)
-            check_errors(gf, errors)
+            check_errors(gf, tmp, errors)
             check_recording_and_control(gf, tmp, errors)
         compare_with_cli(a.bin_dir, db, sid, history, hof, members)
         check_tokens(a.bin_dir, tmp, Client, errors)

@@ -7,7 +7,8 @@ import grpc
 
 from . import spec as specs
 from . import stubs, tables
-from .errors import GaitforgeError, InvalidRequest, NotFound, StudyNotCompleted, from_rpc_error
+from .errors import (GaitforgeError, InvalidRequest, InvalidSpec, NotFound, StudyNotCompleted,
+                     Unavailable, from_rpc_error)
 from .local import LocalCluster
 
 _MAX_MESSAGE = 64 * 1024 * 1024  # the coordinator's default --max-message-mb
@@ -73,11 +74,17 @@ class Client:
     def submit(self, spec):
         """Creates a study from a dict of spec fields or a YAML/JSON spec file; its id."""
         if isinstance(spec, dict):
-            data = spec
-        else:
-            data = specs.read_file(os.fspath(spec))
-            base = os.path.dirname(os.path.abspath(spec))
-            data = specs.with_uploaded_recordings(data, base, self._upload_for_spec)
+            return self._create(spec)
+        path = os.fspath(spec)
+        data = specs.read_file(path)
+        base = os.path.dirname(os.path.abspath(path))
+        data = specs.with_uploaded_recordings(data, base, self._upload_for_spec)
+        try:
+            return self._create(data)
+        except InvalidSpec as e:
+            raise InvalidSpec(f"{path}: {e.message}", e.grpc_code) from None
+
+    def _create(self, data):
         message = specs.to_message(data, self._pb.StudySpec)
         reply = self._call(self._studies.CreateStudy,
                            self._pb.CreateStudyRequest(spec=message), spec_call=True)
@@ -96,7 +103,8 @@ class Client:
     def watch(self, study_id, on_progress=None):
         """Follows the study to its end, calling on_progress(dict) per Progress message.
         Returns the last progress of a completed study; raises StudyNotCompleted when it
-        ends failed or cancelled (the CLI's exit 1)."""
+        ends failed or cancelled (the CLI's exit 1), Unavailable when the coordinator goes
+        away under the watch (the study's committed generations stay; resume it)."""
         last = None
         try:
             stream = self._studies.WatchStudy(self._pb.WatchStudyRequest(study_id=study_id),
@@ -106,9 +114,13 @@ class Client:
                 if on_progress is not None:
                     on_progress(last)
         except grpc.RpcError as e:
-            raise from_rpc_error(e) from None
+            if e.code() not in (grpc.StatusCode.UNAVAILABLE, grpc.StatusCode.CANCELLED):
+                raise from_rpc_error(e) from None
+            raise _lost(study_id, e.details()) from None
         if last is None:
             raise GaitforgeError(f"watch of study {study_id} ended before any progress")
+        if last["state"] == "running":
+            raise _lost(study_id, "the stream ended while the study ran")
         if last["state"] != "completed":
             why = last["error"] or last["stop_reason"]
             raise StudyNotCompleted(f"study {study_id} ended {last['state']}"
@@ -165,6 +177,11 @@ class Client:
 
     def _upload_for_spec(self, path):
         return self.add_recording(path)["hash"]
+
+
+def _lost(study_id, why):
+    return Unavailable(f"lost the coordinator while watching study {study_id} ({why}); its "
+                       f"committed generations are stored: resume('{study_id}') continues it")
 
 
 def _tls(ca, cert, key):
