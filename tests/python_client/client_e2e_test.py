@@ -198,6 +198,11 @@ def check_tokens(bin_dir, tmp, Client, errors):
             check(False, "a stopped coordinator is unavailable")
         except errors.Unavailable as e:
             check(e.exit_code == 4, f"Unavailable once it stopped: {e}")
+        try:
+            Client(target, token=token).watch("any")
+            check(False, "watch of a stopped coordinator is unavailable")
+        except errors.Unavailable as e:
+            check("lost" not in str(e), f"watch of a stopped coordinator: Unavailable, not lost: {e}")
     finally:
         if proc.poll() is None:
             proc.kill()

@@ -114,7 +114,8 @@ class Client:
                 if on_progress is not None:
                     on_progress(last)
         except grpc.RpcError as e:
-            if e.code() not in (grpc.StatusCode.UNAVAILABLE, grpc.StatusCode.CANCELLED):
+            lost = e.code() in (grpc.StatusCode.UNAVAILABLE, grpc.StatusCode.CANCELLED)
+            if last is None or not lost:  # never reached, or refused: not a lost coordinator
                 raise from_rpc_error(e) from None
             raise _lost(study_id, e.details()) from None
         if last is None:
