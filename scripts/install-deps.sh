@@ -10,6 +10,7 @@ PACKAGES=(
   libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev openssl
   iproute2 nftables
   python3 python3-matplotlib python3-numpy
+  python3-grpcio python3-protobuf python3-yaml python3-pandas
 )
 
 missing=()

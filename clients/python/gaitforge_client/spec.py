@@ -1,0 +1,81 @@
+"""Study specs for CreateStudy: a dict, or a YAML/JSON file (docs/spec.md).
+
+The coordinator applies defaults and validates (its messages name the field). The client
+only maps keys onto StudySpec (an unknown key is InvalidSpec naming it) and, for a spec
+file, uploads the recordings it names by path, relative to the file's folder, as
+`gaitforge submit` does. A robot given as a descriptor file is not read here: name a
+built-in robot, or pass the descriptor's text as objective.robot_descriptor.
+"""
+import copy
+import os
+import re
+
+from google.protobuf import json_format
+
+from .errors import InvalidSpec, NotFound
+
+_HASH = re.compile(r"^[0-9a-f]{64}$")
+_NO_FIELD = re.compile(r'has no field named "([^"]+)"')
+_PARENT = re.compile(r"Failed to parse (\w+) field")
+_KNOWN = re.compile(r"Available Fields\(except extensions\): \"\[(.*)\]\"")
+
+
+def read_file(path):
+    """The spec file's mapping; NotFound when it cannot be read, InvalidSpec when it does not parse."""
+    import yaml
+    if os.path.isdir(path):
+        raise InvalidSpec(f"{path}: is a directory, not a spec file")
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = yaml.safe_load(f)
+    except OSError as e:
+        raise NotFound(f"{path}: {e.strerror}") from e
+    except yaml.YAMLError as e:
+        raise InvalidSpec(f"{path}: {e}") from e
+    if not isinstance(data, dict):
+        raise InvalidSpec(f"{path}: expected a mapping of spec fields")
+    return data
+
+
+def to_message(data, spec_type):
+    """`data` (a dict of spec fields) as a StudySpec; InvalidSpec naming an unknown or ill-typed field."""
+    robot = (data.get("objective") or {}).get("robot", "")
+    if isinstance(robot, str) and ("/" in robot or robot.endswith((".yaml", ".json"))):
+        raise InvalidSpec(f"field 'objective.robot': '{robot}' is a descriptor file; the Python "
+                          "client takes a built-in robot's name or objective.robot_descriptor")
+    try:
+        return json_format.ParseDict(data, spec_type())
+    except json_format.ParseError as e:
+        raise InvalidSpec(_parse_error(str(e))) from e
+
+
+def _parse_error(text):
+    """ParseDict's message as `field 'PATH': WHAT`, like the CLI's spec errors."""
+    parents = _PARENT.findall(text)
+    leaf = _NO_FIELD.search(text)
+    path = ".".join(parents + ([leaf.group(1)] if leaf else [])) or "spec"
+    known = _KNOWN.search(text)
+    if leaf:
+        what = f"unknown field '{leaf.group(1)}'" + (f" (known: {_names(known.group(1))})" if known else "")
+    else:
+        what = " ".join(text.split())
+    return f"field '{path}': {what}"
+
+
+def _names(listed):
+    """"'name', 'heldOut'" (protobuf's JSON names) as "name, held_out" (the spec's)."""
+    names = [n.strip().strip("'") for n in listed.split(",")]
+    return ", ".join(re.sub(r"[A-Z]", lambda m: "_" + m.group(0).lower(), n) for n in names)
+
+
+def with_uploaded_recordings(data, base_dir, upload):
+    """A copy of `data` whose recording paths are replaced by the hashes `upload(path)` returns."""
+    data = copy.deepcopy(data)
+    objective = data.get("objective") or {}
+    for key in ("recordings", "held_out"):
+        entries = objective.get(key)
+        if not isinstance(entries, list):
+            continue
+        objective[key] = [e if not isinstance(e, str) or _HASH.match(e) or not e
+                          else upload(os.path.join(base_dir, e)) for e in entries]
+    return data
