@@ -116,6 +116,24 @@ def check_errors(gf, tmp, errors):
         check(True, f"NotFound for generation 99: {e}")
 
 
+def check_robot_folder(gf, source_dir, errors):
+    """A robot that exists only as files, named by its folder, runs as the CLI runs it."""
+    fixture = os.path.join(source_dir, "tests", "fixtures", "robots", "twobox")
+    sid = gf.submit({"name": "twobox", "population": 6, "generations": 2, "ga": {"elite": 1},
+                     "objective": {"name": "robot.distance", "robot": fixture}})
+    gf.watch(sid)
+    spec = gf.study(sid)["spec"]
+    check(spec.objective.robot == "twobox" and "format: gaitforge.robot.v1" in
+          spec.objective.robot_descriptor, "robot folder: the spec carries the descriptor")
+    check(len(gf.hall_of_fame(sid)) > 0, "robot folder: a hall of fame")
+    try:
+        gf.submit({"population": 6, "generations": 2, "ga": {"elite": 1},
+                   "objective": {"name": "robot.distance", "robot": fixture + "/nope.yaml"}})
+        check(False, "a missing robot file is refused")
+    except errors.NotFound as e:
+        check("objective.robot" in str(e), f"NotFound names objective.robot: {e}")
+
+
 def check_recording_and_control(gf, tmp, errors):
     added = gf.add_recording(RECORDING)
     check(len(added["hash"]) == 64 and not added["already_stored"], "add_recording: a hash")
@@ -225,6 +243,7 @@ def main():
             history, hof, members = check_reads(gf, sid)
             check_errors(gf, tmp, errors)
             check_recording_and_control(gf, tmp, errors)
+            check_robot_folder(gf, REPO, errors)
         compare_with_cli(a.bin_dir, db, sid, history, hof, members)
         check_tokens(a.bin_dir, tmp, Client, errors)
     finally:

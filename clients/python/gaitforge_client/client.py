@@ -74,10 +74,11 @@ class Client:
     def submit(self, spec):
         """Creates a study from a dict of spec fields or a YAML/JSON spec file; its id."""
         if isinstance(spec, dict):
-            return self._create(spec)
+            return self._create(specs.with_robot_descriptor(spec, os.getcwd()))
         path = os.fspath(spec)
         data = specs.read_file(path)
         base = os.path.dirname(os.path.abspath(path))
+        data = specs.with_robot_descriptor(data, base)
         data = specs.with_uploaded_recordings(data, base, self._upload_for_spec)
         try:
             return self._create(data)

@@ -3,8 +3,9 @@
 The coordinator applies defaults and validates (its messages name the field). The client
 only maps keys onto StudySpec (an unknown key is InvalidSpec naming it) and, for a spec
 file, uploads the recordings it names by path, relative to the file's folder, as
-`gaitforge submit` does. A robot given as a descriptor file is not read here: name a
-built-in robot, or pass the descriptor's text as objective.robot_descriptor.
+`gaitforge submit` does. A robot given as a descriptor file or robot folder
+(objective.robot, docs/robots.md) is read as the CLI reads it: the spec then carries the
+robot's name and the descriptor's text, which the coordinator checks.
 """
 import copy
 import os
@@ -37,12 +38,41 @@ def read_file(path):
     return data
 
 
+def looks_like_robot_path(robot, base_dir):
+    """True when objective.robot names a file or folder rather than a built-in robot."""
+    return isinstance(robot, str) and robot != "" and (
+        "/" in robot or robot.endswith((".yaml", ".json")) or
+        os.path.exists(os.path.join(base_dir, robot)))
+
+
+def with_robot_descriptor(data, base_dir):
+    """A copy of `data` whose objective.robot path is replaced by the robot's name, with the
+    descriptor's text in objective.robot_descriptor; NotFound when the file is missing."""
+    objective = (data.get("objective") or {})
+    robot = objective.get("robot", "")
+    if objective.get("robot_descriptor") or not looks_like_robot_path(robot, base_dir):
+        return data
+    import yaml
+    path = os.path.join(base_dir, robot)
+    if os.path.isdir(path):
+        path = os.path.join(path, "robot.yaml")
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise NotFound(f"field 'objective.robot': cannot open '{path}': {e.strerror}") from e
+    try:
+        name = (yaml.safe_load(text) or {}).get("name", "")
+    except (yaml.YAMLError, AttributeError) as e:
+        raise InvalidSpec(f"field 'objective.robot': {path}: not a robot descriptor: {e}") from e
+    data = copy.deepcopy(data)
+    data["objective"]["robot"] = name if isinstance(name, str) else ""
+    data["objective"]["robot_descriptor"] = text
+    return data
+
+
 def to_message(data, spec_type):
     """`data` (a dict of spec fields) as a StudySpec; InvalidSpec naming an unknown or ill-typed field."""
-    robot = (data.get("objective") or {}).get("robot", "")
-    if isinstance(robot, str) and ("/" in robot or robot.endswith((".yaml", ".json"))):
-        raise InvalidSpec(f"field 'objective.robot': '{robot}' is a descriptor file; the Python "
-                          "client takes a built-in robot's name or objective.robot_descriptor")
     try:
         return json_format.ParseDict(data, spec_type())
     except json_format.ParseError as e:
