@@ -9,6 +9,7 @@
 
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
+#include "services/core/json_text.h"
 #include "clients/cli/processes.h"
 #include "services/core/db_path.h"
 #include "services/rpc/channel.h"
@@ -254,17 +255,6 @@ int WatchUntilDone(v1::StudyService::Stub& stub, const std::string& id, const Gl
   return last.state() == v1::STUDY_STATE_COMPLETED ? kOk : kStudyNotCompleted;
 }
 
-std::string JsonQuote(const std::string& s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (ch == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += ch;
-  }
-  return out + "\"";
-}
+std::string JsonQuote(const std::string& s) { return core::JsonQuote(s); }
 
 }  // namespace gaitforge::cli

@@ -10,19 +10,17 @@
 #include <iostream>
 
 #include "clients/cli/cli.h"
+#include "services/core/subprocess.h"
 
 namespace gaitforge::cli {
 namespace {
 
 std::string PlotScript() {
   if (const char* s = std::getenv("GAITFORGE_PLOT_SCRIPT")) return s;
-  return std::string(GAITFORGE_SOURCE_DIR) + "/clients/python/gaitforge_plot.py";
+  return core::PythonScript("gaitforge_plot.py");
 }
 
-std::string Python() {
-  if (const char* p = std::getenv("GAITFORGE_PYTHON")) return p;
-  return "/usr/bin/python3";  // Debian's, which sees python3-matplotlib
-}
+using core::Python;
 
 }  // namespace
 

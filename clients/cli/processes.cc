@@ -13,16 +13,6 @@
 
 namespace gaitforge::cli {
 
-std::string SiblingBinary(const std::string& name) {
-  std::error_code ec;
-  auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    auto candidate = self.parent_path() / name;
-    if (std::filesystem::exists(candidate)) return candidate.string();
-  }
-  return name;
-}
-
 pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
   const pid_t parent = getpid();
   pid_t pid = fork();
@@ -53,31 +43,6 @@ pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path) {
   sigprocmask(SIG_SETMASK, &none, nullptr);
   execvp(args[0], args.data());
   _exit(127);
-}
-
-int RunCapture(const std::vector<std::string>& argv, std::string* out) {
-  int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0) return -1;  // no leak into children forked meanwhile
-  pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    close(fds[0]);
-    dup2(fds[1], 1);
-    close(fds[1]);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  close(fds[1]);
-  char buf[4096];
-  ssize_t n;
-  while ((n = read(fds[0], buf, sizeof buf)) > 0) out->append(buf, n);
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 void Stop(pid_t pid, double grace_s) {

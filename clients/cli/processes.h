@@ -6,16 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "services/core/subprocess.h"
+
 namespace gaitforge::cli {
 
-// Path of a binary next to this one (build/bin or the install prefix), else its bare
-// name (found on PATH).
-std::string SiblingBinary(const std::string& name);
+using core::RunCapture;
+using core::SiblingBinary;
+
 // Starts argv[0] with stdout and stderr appended to log_path. Returns the pid, or -1.
 pid_t Spawn(const std::vector<std::string>& argv, const std::string& log_path);
-// Runs argv to completion, capturing its stdout (stderr passes through). Returns the exit
-// code (-1 if it could not start or was killed).
-int RunCapture(const std::vector<std::string>& argv, std::string* out);
 // SIGTERM, then SIGKILL after grace_s; reaps the child.
 void Stop(pid_t pid, double grace_s);
 // Waits for the coordinator's --port-file; returns the port or -1 (child died or timeout).

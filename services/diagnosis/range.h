@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "clients/cli/diagnosis_fits.h"
+#include "services/diagnosis/fits.h"
 #include "gaitforge/v1/diagnosis.pb.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 struct ParamRange {
   double lo = NAN, hi = NAN;             // NAN: not bounded within the search on that side
@@ -75,4 +75,4 @@ FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
                     const std::vector<std::string>& train_files,
                     const std::vector<double>& weights, double tolerance, uint64_t seed);
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

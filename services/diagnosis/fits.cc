@@ -1,7 +1,5 @@
-// The gap finder's fits (clients/cli/diagnosis_fits.h).
-#include "clients/cli/diagnosis_fits.h"
-
-#include <unistd.h>
+// The gap finder's fits (services/diagnosis/fits.h).
+#include "services/diagnosis/fits.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,12 +12,11 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
-#include "clients/cli/processes.h"
-#include "google/protobuf/util/message_differencer.h"
-#include "services/spec/spec_validation.h"
+#include "services/core/objective_catalog.h"
+#include "services/core/subprocess.h"
 #include "workers/effects/effects.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 // Numerically irrelevant variants of the model: the canonical caterpillar hops, so these move
 // its travel by tens of percent (../shared/robots/caterpillar.md). Every held-out error is
@@ -66,9 +63,14 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
   return c;
 }
 
+std::string CalibrationObjective(const v1::DiagnosisSpec& d) {
+  for (const auto& o : core::ObjectiveCatalog())
+    if (o.calibrates == d.robot()) return o.name;
+  return "";
+}
+
 v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
-                       const std::vector<std::string>& train, const std::vector<std::string>& held,
-                       const std::string& weights) {
+                       const StudyInputs& in) {
   v1::StudySpec s;
   s.set_name(absl::StrCat(d.name(), "-", c.label));
   s.set_seed(d.seed());
@@ -76,11 +78,11 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
   s.set_population(8);
   s.set_generations(100000);
   auto* o = s.mutable_objective();
-  o->set_name("caterpillar.calibration");
+  o->set_name(CalibrationObjective(d));
   (*o->mutable_options())["error"] = d.error();
-  if (!weights.empty()) (*o->mutable_options())["weights"] = weights;
-  for (const auto& h : train) o->add_recordings(h);
-  for (const auto& h : held) o->add_held_out(h);
+  if (!in.weights.empty()) (*o->mutable_options())["weights"] = in.weights;
+  for (const auto& h : in.train) o->add_recordings(h);
+  for (const auto& h : in.held) o->add_held_out(h);
   for (const auto& b : c.genes) *s.add_bounds() = b;
   auto* cm = s.mutable_cmaes();
   for (double m : c.mean0) cm->add_mean0(m);
@@ -88,107 +90,6 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
   cm->set_restarts("none");
   cm->set_max_evaluations(evaluations);
   return s;
-}
-
-// Creates the studies and waits for all of them; fills study_id, values, spread, train.
-int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
-               int evaluations, const std::vector<std::string>& train,
-               const std::vector<std::string>& held, const std::string& weights,
-               const GlobalOptions& g, const char* stage, int* reused_total) {
-  // A fit already in the database with the same spec (seed included) is reused, not run
-  // again: a study's result depends only on its spec and seed, so an interrupted diagnosis
-  // run again picks up its completed fits and waits for its interrupted ones (an embedded
-  // coordinator resumes them on start) instead of computing them twice.
-  v1::ListStudiesResponse existing;
-  {
-    grpc::ClientContext ctx;
-    SetDeadline(ctx, g.timeout_s);
-    grpc::Status s = conn.study().ListStudies(&ctx, v1::ListStudiesRequest(), &existing);
-    if (!s.ok()) return ReportRpcError(s, "diagnose: list studies");
-  }
-  int reused = 0;
-  for (auto* c : cands) {
-    v1::CreateStudyRequest req;
-    *req.mutable_spec() = StudyFor(d, *c, evaluations, train, held, weights);
-    v1::StudySpec normalised = req.spec();
-    spec::ApplyDefaults(&normalised);
-    c->study_id.clear();
-    for (const auto& st : existing.studies())
-      if ((st.state() == v1::STUDY_STATE_COMPLETED || st.state() == v1::STUDY_STATE_RUNNING) &&
-          google::protobuf::util::MessageDifferencer::Equals(st.spec(), normalised) &&
-          (c->study_id.empty() || st.state() == v1::STUDY_STATE_COMPLETED))
-        c->study_id = st.study_id();
-    if (!c->study_id.empty()) {
-      ++reused;
-      continue;
-    }
-    grpc::ClientContext ctx;
-    SetDeadline(ctx, g.timeout_s);
-    v1::CreateStudyResponse resp;
-    grpc::Status s = conn.study().CreateStudy(&ctx, req, &resp);
-    if (!s.ok()) return ReportRpcError(s, absl::StrCat("diagnose: ", c->label));
-    c->study_id = resp.study().study_id();
-  }
-  if (reused && !g.json)
-    std::cerr << stage << ": " << reused << " of " << cands.size()
-              << " fits reused from the database (same spec and seed)\n";
-  *reused_total += reused;
-  // Progress: a bar over the stage's evaluation budget on a terminal, a line per finished
-  // fit otherwise.
-  int shown = -1;
-  const bool tty = isatty(STDERR_FILENO);
-  const auto started = std::chrono::steady_clock::now();
-  const double budget = static_cast<double>(evaluations) * cands.size();
-  for (;;) {
-    int done = 0;
-    double spent = 0;
-    for (auto* c : cands) {
-      grpc::ClientContext ctx;
-      SetDeadline(ctx, g.timeout_s);
-      v1::GetStudyRequest req;
-      req.set_study_id(c->study_id);
-      v1::StudySummary sum;
-      grpc::Status s = conn.study().GetStudy(&ctx, req, &sum);
-      if (!s.ok()) return ReportRpcError(s, "diagnose: watch " + c->study_id);
-      const bool finished = sum.state() != v1::STUDY_STATE_RUNNING;
-      done += finished;
-      // A fit that stopped early (CMA-ES tolerances) has used its budget.
-      spent += finished ? evaluations : std::min<double>(sum.evaluations(), evaluations);
-    }
-    const double frac = budget > 0 ? spent / budget : 1.0;
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    const std::string line = absl::StrFormat(
-        "%s: %d/%d fits done, %.0f/%.0f evaluations, ETA %s", stage, done, cands.size(), spent,
-        budget, frac > 0.02 ? FormatDuration(elapsed * (1 - frac) / frac) : std::string("--"));
-    if (!g.json && tty) {
-      DrawProgressBar(frac, line);
-    } else if (!g.json && done != shown) {
-      std::cerr << line << "\n";
-      shown = done;
-    }
-    if (done == static_cast<int>(cands.size())) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  }
-  if (!g.json && tty) std::cerr << "\n";
-  for (auto* c : cands) {
-    grpc::ClientContext ctx;
-    SetDeadline(ctx, g.timeout_s);
-    v1::GetHallOfFameRequest req;
-    req.set_study_id(c->study_id);
-    v1::GetHallOfFameResponse hof;
-    grpc::Status s = conn.study().GetHallOfFame(&ctx, req, &hof);
-    if (!s.ok() || hof.entries_size() == 0 || !hof.entries(0).individual().evaluation().valid()) {
-      c->reason = s.ok() ? "no valid fit" : s.error_message();
-      continue;
-    }
-    const auto& best = hof.entries(0).individual();
-    c->values.assign(best.genes().begin(), best.genes().end());
-    c->spread.assign(hof.spread().begin(), hof.spread().end());
-    c->train = -best.evaluation().fitness();
-    c->ok = true;
-  }
-  return kOk;
 }
 
 std::string SetArg(const Candidate& c) {
@@ -202,7 +103,7 @@ std::string SetArg(const Candidate& c) {
 std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string>& files,
                                const v1::DiagnosisSpec& d, const std::string& out_dir,
                                const std::string& extra_set) {
-  std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
+  std::vector<std::string> argv = {core::SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ","), "--options",
                                    "error=" + d.error()};
   std::string set = SetArg(c);
@@ -214,7 +115,7 @@ std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string
     argv.insert(argv.end(), {"--out-dir", out_dir});
   }
   std::string out;
-  if (RunCapture(argv, &out) != 0) return {};
+  if (core::RunCapture(argv, &out) != 0) return {};
   std::vector<double> errors;
   for (size_t at = out.find("\"error\": "); at != std::string::npos;
        at = out.find("\"error\": ", at + 1))
@@ -298,4 +199,4 @@ void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1:
   c.held = sum / c.held_variants.size();
 }
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -1,12 +1,12 @@
-// Reading the located slices against the model's own spread (clients/cli/diagnosis_locate.h):
+// Reading the located slices against the model's own spread (services/diagnosis/locate.h):
 // what a "none" verdict then says, on located JSONs shaped as gaitforge_locate.py writes them.
-#include "clients/cli/diagnosis_locate.h"
+#include "services/diagnosis/locate.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 namespace {
 
 std::string Located(const std::string& beyond, const std::string& names) {
@@ -93,4 +93,4 @@ TEST(ReadNone, WithinEverywhereIsAMatchAndUnknownSaysNothing) {
 }
 
 }  // namespace
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

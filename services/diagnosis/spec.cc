@@ -1,16 +1,26 @@
 // The diagnosis spec's rules: its defaults and the checks that name a bad field.
-#include "clients/cli/diagnosis_spec.h"
+#include "services/diagnosis/spec.h"
+
+#include <string>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "services/core/objective_catalog.h"
+#include "services/diagnosis/fits.h"
 #include "workers/effects/effects.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 absl::Status Validate(const v1::DiagnosisSpec& d) {
-  if (d.robot() != "caterpillar")
-    return absl::InvalidArgumentError(absl::StrCat("field 'robot': '", d.robot(),
-                                                   "' is not a robot gaitforge can diagnose "
-                                                   "(known: caterpillar)"));
+  if (CalibrationObjective(d).empty()) {
+    std::vector<std::string> known;
+    for (const auto& o : core::ObjectiveCatalog())
+      if (!o.calibrates.empty()) known.push_back(o.calibrates);
+    return absl::InvalidArgumentError(absl::StrCat(
+        "field 'robot': '", d.robot(), "' is not a robot gaitforge can diagnose (known: ",
+        absl::StrJoin(known, ", "), ")"));
+  }
   if (d.training_size() == 0)
     return absl::InvalidArgumentError("field 'training': at least one recording is required");
   if (d.held_out_size() == 0)
@@ -62,4 +72,4 @@ void Defaults(v1::DiagnosisSpec* d) {
       if (!e.params.empty()) d->add_candidates(e.id);
 }
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

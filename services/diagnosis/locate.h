@@ -3,22 +3,24 @@
 // variants.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
-#include "clients/cli/diagnosis_fits.h"
+#include "services/diagnosis/fits.h"
 #include "gaitforge/v1/diagnosis.pb.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 // The fit's evaluations on files under the numeric variants, already written to
 // VariantDir(dir + "/" + stem, i) with the errors given (diagnosis_fits.h, VariantErrors),
 // sliced by the locate script into dir/out_json (and figure, when not empty): against the
 // variants' spread when every variant ran, else against the noise alone. Returns the
-// located JSON, or "{}" with a warning on stderr: locating describes, it does not decide.
+// located JSON, or "{}" with a warning to `note`: locating describes, it does not decide.
+using Note = std::function<void(const std::string&)>;
 std::string Locate(const std::vector<double>& errors, const std::string& dir,
                    const std::string& stem, const std::string& out_json,
-                   const std::string& figure);
+                   const std::string& figure, const Note& note);
 
 // What the located JSONs of the training and the held-out recordings say: whether the
 // baseline misses each set beyond the noise and its numeric spread (known only when located
@@ -46,4 +48,4 @@ NoneReading ReadNone(const SpreadReading& r, const std::vector<std::string>& hel
 // A recording's own name: the file name without the HASH16- prefix of a downloaded copy.
 std::string OwnName(const std::string& path);
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

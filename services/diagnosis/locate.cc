@@ -1,20 +1,19 @@
 // Locating the mismatch: see diagnosis_locate.h.
-#include "clients/cli/diagnosis_locate.h"
+#include "services/diagnosis/locate.h"
 
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <sstream>
 
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "clients/cli/cli.h"
-#include "clients/cli/processes.h"
+#include "services/core/subprocess.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 namespace {
 
 std::string ReadAll(const std::string& path) {
@@ -28,16 +27,15 @@ std::string ReadAll(const std::string& path) {
 
 std::string Locate(const std::vector<double>& errors, const std::string& dir,
                    const std::string& stem, const std::string& out_json,
-                   const std::string& figure) {
+                   const std::string& figure, const Note& note) {
   const std::string main = VariantDir(dir + "/" + stem, 0);
   if (errors.empty() || !std::isfinite(errors[0])) {
-    std::cerr << "gaitforge: warning: the model as fitted failed on " << main
-              << "'s recordings; the report has no 'where it showed' for them\n";
+    note(absl::StrCat("warning: the model as fitted failed on ", main,
+                      "'s recordings; the report has no 'where it showed' for them"));
     return "{}";
   }
   std::vector<std::string> argv = {
-      "/usr/bin/python3",
-      std::filesystem::path(PlotScriptPath()).parent_path().string() + "/gaitforge_locate.py",
+      core::Python(), core::PythonScript("gaitforge_locate.py"),
       "--eval", main + "/eval.json", "--out", dir + "/" + out_json};
   if (!figure.empty()) argv.insert(argv.end(), {"--figure", dir + "/" + figure});
   // The model's own spread on the same recordings: the fit under the other numeric
@@ -49,15 +47,15 @@ std::string Locate(const std::vector<double>& errors, const std::string& dir,
   if (spread.size() + 1 == errors.size() && spread.size() > 0) {
     std::vector<std::string> with = argv;
     with.insert(with.end(), {"--variants", absl::StrJoin(spread, ",")});
-    if (RunCapture(with, &ignored) == 0) return ReadAll(dir + "/" + out_json);
-    std::cerr << "gaitforge: warning: locating against the numeric variants failed on " << main
-              << "; locating against the noise alone\n";
+    if (core::RunCapture(with, &ignored) == 0) return ReadAll(dir + "/" + out_json);
+    note(absl::StrCat("warning: locating against the numeric variants failed on ", main,
+                      "; locating against the noise alone"));
   }
   // A variant failed (a fit that diverges at one timestep): locate against the noise alone.
-  if (const int code = RunCapture(argv, &ignored); code != 0) {
-    std::cerr << "gaitforge: warning: locating the mismatch failed (gaitforge_locate.py exit "
-              << code << " on " << main << "/eval.json); the report has no "
-              << "'where it showed' for those recordings\n";
+  if (const int code = core::RunCapture(argv, &ignored); code != 0) {
+    note(absl::StrCat("warning: locating the mismatch failed (gaitforge_locate.py exit ", code,
+                      " on ", main,
+                      "/eval.json); the report has no 'where it showed' for those recordings"));
     return "{}";
   }
   return ReadAll(dir + "/" + out_json);
@@ -134,4 +132,4 @@ NoneReading ReadNone(const SpreadReading& r, const std::vector<std::string>& hel
   return n;
 }
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -1,8 +1,8 @@
 // FloorRange (diagnosis_range.h): the parameter ranges that the training recordings cannot
 // tell from the fit, given the model's own numerical spread.
-#include "clients/cli/diagnosis_range.h"
+#include "services/diagnosis/range.h"
 
-#include "clients/cli/diagnosis_decision.h"
+#include "services/diagnosis/decision.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #include "absl/strings/str_join.h"
 #include "workers/effects/effects.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 namespace {
 
 constexpr int kRounds = 4;
@@ -286,4 +286,4 @@ FitRange FloorRange(const Candidate& c, const v1::DiagnosisSpec& d,
   return out;
 }
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "clients/cli/cli.h"
-#include "clients/cli/diagnosis_decision.h"
+#include "services/diagnosis/decision.h"
 #include "gaitforge/v1/diagnosis.pb.h"
+#include "gaitforge/v1/study.pb.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 // A fitted explanation: its FitScore (effects, ok, bic, held, held_variants) and the study.
 struct Candidate : FitScore {
@@ -34,17 +34,19 @@ const std::vector<std::string>& NumericVariants();
 // offset), start point and parameter count.
 Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids);
 
+// What every fit's study names: the recordings (content hashes) and the training weights.
+struct StudyInputs {
+  std::vector<std::string> train, held;
+  std::string weights;  // the calibration objective's `weights` option; "" weighs alike
+};
+
+// The calibration objective of d's robot: the catalog's objective that calibrates it.
+// Empty when the robot has none (Validate refuses such a spec).
+std::string CalibrationObjective(const v1::DiagnosisSpec& d);
+
 // The calibration study that fits c.
 v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evaluations,
-                       const std::vector<std::string>& train, const std::vector<std::string>& held,
-                       const std::string& weights);
-
-// Creates (or reuses: same spec and seed) the studies and waits for all of them, with
-// progress on stderr; fills study_id, values, spread, train. Returns an exit code.
-int RunStudies(Connection& conn, const v1::DiagnosisSpec& d, std::vector<Candidate*> cands,
-               int evaluations, const std::vector<std::string>& train,
-               const std::vector<std::string>& held, const std::string& weights,
-               const GlobalOptions& g, const char* stage, int* reused_total);
+                       const StudyInputs& in);
 
 // Error of calibration-eval on each file with c's fit (+ extra_set); empty on failure.
 // With out_dir, the simulated markers and eval.json are written there.
@@ -77,4 +79,4 @@ void TwoAtATime(size_t n, const std::function<void(size_t)>& run);
 void ScoreHeldOut(Candidate& c, const std::vector<std::string>& files, const v1::DiagnosisSpec& d,
                   const std::string& prefix = "");
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -5,9 +5,9 @@
 #include "absl/status/status.h"
 #include "gaitforge/v1/diagnosis.pb.h"
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 
 absl::Status Validate(const v1::DiagnosisSpec& d);
 void Defaults(v1::DiagnosisSpec* d);
 
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace gaitforge::cli {
+namespace gaitforge::diagnosis {
 
 // One fitted explanation: the base model plus `effects` (none: the baseline).
 struct FitScore {
@@ -95,4 +95,4 @@ Decision PreferDetermined(const Decision& d, const std::vector<bool>& undetermin
 std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScore* winner,
                         const DecisionRule& rule, const std::vector<const FitScore*>& others = {});
 
-}  // namespace gaitforge::cli
+}  // namespace gaitforge::diagnosis

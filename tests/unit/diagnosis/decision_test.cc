@@ -1,12 +1,12 @@
 // The gap finder's decision rule on hand-made fit scores: a clear effect is found, noise is
 // not, a pair must earn its extra parameters, near-ties are ambiguous.
-#include "clients/cli/diagnosis_decision.h"
+#include "services/diagnosis/decision.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-namespace gaitforge::cli {
+namespace gaitforge::diagnosis {
 namespace {
 
 FitScore Fit(std::vector<std::string> effects, double bic, std::vector<double> held) {
@@ -320,4 +320,4 @@ TEST(WhyNotNamed, APairDroppedForItsMemberSaysSoWhoeverIsNamed) {
 }
 
 }  // namespace
-}  // namespace gaitforge::cli
+}  // namespace gaitforge::diagnosis

@@ -1,6 +1,6 @@
-// The range search of the gap finder's magnitudes (clients/cli/diagnosis_range.h) on error
+// The range search of the gap finder's magnitudes (services/diagnosis/range.h) on error
 // functions whose answer is known: a bowl, a parameter the error ignores, a failing region.
-#include "clients/cli/diagnosis_range.h"
+#include "services/diagnosis/range.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <tuple>
 #include <vector>
 
-namespace gaitforge::cli::diagnosis {
+namespace gaitforge::diagnosis {
 namespace {
 
 // Error (x - 1)^2 + 0.25 (y - 2)^2: within 0.01 of its least for x in [0.9, 1.1] and y in
@@ -231,4 +231,4 @@ TEST(JudgeRange, SaysWhichEffectTheDataDoNotRequireOrPin) {
 }
 
 }  // namespace
-}  // namespace gaitforge::cli::diagnosis
+}  // namespace gaitforge::diagnosis

@@ -1,4 +1,4 @@
-#include "clients/cli/diagnosis_decision.h"
+#include "services/diagnosis/decision.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 
-namespace gaitforge::cli {
+namespace gaitforge::diagnosis {
 
 double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
   const size_t n = std::min(a.size(), b.size());
@@ -224,4 +224,4 @@ std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScor
                          1000 * winner->held, 1000 * fit.held);
 }
 
-}  // namespace gaitforge::cli
+}  // namespace gaitforge::diagnosis

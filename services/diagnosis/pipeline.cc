@@ -1,0 +1,214 @@
+// The gap finder's stages (pipeline.h), in order.
+#include "services/diagnosis/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "robots/controllers.h"
+#include "robots/registry.h"
+#include "services/diagnosis/locate.h"
+#include "services/diagnosis/run_state.h"
+#include "services/recording/recording.h"
+
+namespace gaitforge::diagnosis {
+namespace {
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The gait period of the command a recording holds (its robot's controller kind), 1 s when
+// the robot or its kind is unknown.
+double GaitPeriod(const recording::Recording& rec) {
+  const auto* robot = robots::FindRobot(rec.meta.robot);
+  const auto* kind = robot ? robots::FindControllerKind(robot->controller.kind) : nullptr;
+  return kind && kind->period_s ? kind->period_s(rec.meta.genes) : 1.0;
+}
+
+// The compared samples of the training recordings: period bins (or samples, for the
+// pointwise error) times channels.
+absl::Status CountSamples(RunState& s) {
+  for (const auto& f : s.in.train_files) {
+    auto rec = recording::ParseRecording(ReadFile(f), ReadFile(f + ".json"), f, f + ".json");
+    if (!rec.ok()) return rec.status();
+    const int64_t bins = s.d.error() == "pointwise"
+                             ? static_cast<int64_t>(rec->t.size())
+                             : std::max<int64_t>(1, std::llround(GaitPeriod(*rec) / rec->dt));
+    s.n += bins * static_cast<int64_t>(rec->channels.size());
+  }
+  return absl::OkStatus();
+}
+
+// Recording weights (weighting: floor), the same in every fit.
+absl::Status Weigh(RunState& s) {
+  s.fit_inputs = StudyInputs{s.in.train, s.in.held, ""};
+  if (s.d.weighting() != "floor") return absl::OkStatus();
+  s.weights = FloorWeights(s.d, s.in.train_files, &s.train_floors);
+  if (s.weights.empty())
+    return absl::FailedPreconditionError(
+        "weighting: floor: the model failed on a training recording under a numeric variant "
+        "(gaitforge-sim calibration-eval)");
+  std::vector<std::string> parts;
+  for (double w : s.weights) parts.push_back(absl::StrFormat("%.6g", w));
+  s.fit_inputs.weights = absl::StrJoin(parts, ",");
+  return absl::OkStatus();
+}
+
+// 1. The baseline, its noise floor, and 2. where its residuals show the mismatch, on the
+// training recordings and on the held-out ones (if not there, they cannot confirm).
+absl::Status Baseline(RunState& s) {
+  s.base = Make(s.d, {});
+  std::vector<Candidate*> one = {&s.base};
+  if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
+                        "baseline", &s.reused);
+      !st.ok())
+    return st;
+  if (!s.base.ok) return absl::FailedPreconditionError("the baseline fit failed: " + s.base.reason);
+  s.base.bic = s.Bic(s.base);
+  ScoreHeldOut(s.base, s.in.held_files, s.d, s.in.dir + "/baseline-held");  // kept: located
+  double sq = 0;
+  for (double e : s.base.held_variants) sq += (e - s.base.held) * (e - s.base.held);
+  s.floor_sd = std::sqrt(sq / std::max<size_t>(1, s.base.held_variants.size() - 1));
+  s.located = Locate(VariantErrors(s.base, s.in.train_files, s.d, s.in.dir + "/baseline-train"),
+                     s.in.dir, "baseline-train", "located.json", "located.svg", s.r.note);
+  s.located_held =
+      Locate(s.base.held_variants, s.in.dir, "baseline-held", "located-held.json", "", s.r.note);
+  return absl::OkStatus();
+}
+
+// 3. Screening: every candidate effect, a short fit each, all at once.
+absl::Status Screen(RunState& s) {
+  for (const auto& id : s.d.candidates()) s.screened.push_back(Make(s.d, {id}));
+  std::vector<Candidate*> ptrs;
+  for (auto& c : s.screened) ptrs.push_back(&c);
+  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
+                        "screening", &s.reused);
+      !st.ok())
+    return st;
+  std::sort(s.screened.begin(), s.screened.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.ok != b.ok) return a.ok;
+    return a.train < b.train;
+  });
+  return absl::OkStatus();
+}
+
+// 4. Full fits of the leaders (with screening_tie > 0, near ties with the last leader
+// too), then pairs of them; each scored held out and checked for parameters at a bound.
+absl::Status Refit(RunState& s) {
+  std::vector<double> screened_train;
+  for (const auto& c : s.screened)
+    if (c.ok) screened_train.push_back(c.train);
+  const int leaders = LeadersToRefit(screened_train, s.d.top(), s.d.screening_tie());
+  for (int i = 0; i < leaders; ++i) s.full.push_back(Make(s.d, s.screened[i].effects));
+  s.singles = s.full.size();
+  if (s.d.try_pairs())
+    for (size_t i = 0; i < s.singles && i < 2; ++i)
+      for (size_t j = i + 1; j < s.singles && j < 3; ++j)
+        s.full.push_back(Make(s.d, {s.full[i].effects[0], s.full[j].effects[0]}));
+  std::vector<Candidate*> ptrs;
+  for (auto& c : s.full) ptrs.push_back(&c);
+  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.full_evaluations(), s.fit_inputs, s.r,
+                        "refitting", &s.reused);
+      !st.ok())
+    return st;
+  const size_t base_genes = s.d.base_parameters_size();
+  for (auto& c : s.full) {
+    if (!c.ok) continue;
+    c.bic = s.Bic(c);
+    ScoreHeldOut(c, s.in.held_files, s.d);
+    for (size_t i = base_genes; i < c.genes.size() && i < c.values.size(); ++i) {
+      if (c.genes[i].name().rfind("nuisance.", 0) == 0) continue;
+      if (AtBound(c.values[i], c.genes[i].lo(), c.genes[i].hi())) {
+        c.at_bound = true;
+        c.bound_params.push_back(c.genes[i].name());
+      }
+    }
+  }
+  std::sort(s.full.begin(), s.full.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.ok != b.ok) return a.ok;
+    return a.bic < b.bic;
+  });
+  return absl::OkStatus();
+}
+
+// The range of c's parameters that the training data cannot tell from its fit, given the
+// model's own spread (range.h), computed when first needed, and what it says of c.
+const RangeVerdict& Judge(RunState& s, const Candidate* c) {
+  if (s.judged.count(c)) return s.judged[c];
+  if (s.ranges.empty()) {
+    if (s.train_floors.empty()) (void)FloorWeights(s.d, s.in.train_files, &s.train_floors);
+    s.tolerance = TrainingTolerance(s.weights, s.train_floors);
+  }
+  uint64_t seed = s.d.seed() ^ 0xcbf29ce484222325ull;  // FNV-1a of the label into the seed
+  for (unsigned char ch : c->label) seed = (seed ^ ch) * 0x100000001b3ull;
+  const auto started = std::chrono::steady_clock::now();
+  s.ranges[c] = FloorRange(*c, s.d, s.in.train_files, s.weights, s.tolerance, seed);
+  s.r.note(absl::StrFormat(
+      "range: %s: %d evaluations, %d within %.3g mm of the least (%.0f s)", c->label,
+      s.ranges[c].evaluations, s.ranges[c].accepted, 1000 * s.tolerance,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()));
+  return s.judged[c] = JudgeRange(*c, s.ranges[c], s.d.base_parameters_size());
+}
+
+// 5. Decide: a first named fit whose effects the data do not require is set aside
+// (DecideRequired); a rival they do not require or pin is no rival (PreferDetermined).
+void DecideStage(RunState& s) {
+  s.rule.margin = s.d.margin();
+  s.decision = DecideRequired(
+      s.base, std::vector<FitScore>(s.full.begin(), s.full.end()), s.rule,
+      [&](int i) { return Judge(s, &s.full[i]).unneeded_effects; }, &s.set_aside);
+  std::vector<bool> weak;
+  for (int i : s.decision.named) {
+    const RangeVerdict& v = Judge(s, &s.full[i]);
+    weak.push_back(!v.loose.empty() || !v.unneeded.empty());
+  }
+  s.decision = PreferDetermined(s.decision, weak, &s.dropped);
+  for (int i : s.decision.named) s.named.push_back(&s.full[i]);
+  if (s.decision.remainder_of >= 0) s.source = &s.full[s.decision.remainder_of];
+  for (int i : s.set_aside)
+    s.r.note("not required: " + s.full[i].label + " (" + s.judged[&s.full[i]].unneeded + ")");
+  for (int i : s.dropped) s.r.note("not a rival: " + s.full[i].label);
+}
+
+// 6. The corrected model: the robot's gait objective with the named fit's values, ready
+// for new gait studies.
+void WriteCorrected(RunState& s) {
+  if (s.named.empty()) return;
+  std::vector<std::string> set;
+  const Candidate& w = *s.named[0];
+  for (size_t i = 0; i < w.genes.size(); ++i)
+    if (w.genes[i].name().rfind("nuisance.", 0) != 0)
+      set.push_back(absl::StrFormat("%s=%.9g", w.genes[i].name(), w.values[i]));
+  s.corrected = s.in.dir + "/corrected-model.yaml";
+  std::ofstream(s.corrected)
+      << "# The " << s.d.robot() << " model with the effect the gap finder found (" << w.label
+      << "),\n# ready for new gait studies: use this objective section in a study spec.\n"
+      << "objective:\n  name: " << s.d.robot() << ".distance\n  options:\n    set: \""
+      << absl::StrJoin(set, ",") << "\"\n";
+}
+
+}  // namespace
+
+absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& in,
+                                     Studies& studies, const Reporter& r) {
+  std::error_code ec;
+  std::filesystem::create_directories(in.dir, ec);
+  RunState s(d, in, studies, r);
+  for (auto stage : {CountSamples, Weigh, Baseline, Screen, Refit})
+    if (auto st = stage(s); !st.ok()) return st;
+  DecideStage(s);
+  WriteCorrected(s);
+  return WriteReport(s);
+}
+
+}  // namespace gaitforge::diagnosis

@@ -1,0 +1,58 @@
+// A diagnosis under way: what each stage of the pipeline (pipeline.h) leaves for the next
+// and for the report (report.h).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gaitforge/v1/diagnosis.pb.h"
+#include "services/diagnosis/decision.h"
+#include "services/diagnosis/fits.h"
+#include "services/diagnosis/pipeline.h"
+#include "services/diagnosis/range.h"
+#include "services/diagnosis/studies.h"
+
+namespace gaitforge::diagnosis {
+
+struct RunState {
+  RunState(const v1::DiagnosisSpec& spec, const Inputs& inputs, Studies& s, const Reporter& rep)
+      : d(spec), in(inputs), studies(s), r(rep) {}
+  const v1::DiagnosisSpec& d;
+  const Inputs& in;
+  Studies& studies;
+  const Reporter& r;
+
+  int64_t n = 0;  // compared samples, for the BIC: period bins x channels per recording
+  StudyInputs fit_inputs;
+  std::vector<double> weights, train_floors;
+  int reused = 0;  // fits found in the database with the same spec, not run again
+
+  Candidate base;
+  double floor_sd = 0;  // spread of the baseline's held-out error over the variants
+  std::string located = "{}", located_held = "{}";
+  std::vector<Candidate> screened, full;
+  size_t singles = 0;  // full fits of single effects (the rest are pairs)
+
+  DecisionRule rule;
+  std::map<const Candidate*, FitRange> ranges;
+  std::map<const Candidate*, RangeVerdict> judged;
+  double tolerance = NAN;
+  std::vector<int> set_aside, dropped;
+  Decision decision;
+  std::vector<const Candidate*> named;
+  const Candidate* source = nullptr;  // the set-aside fit named[0] remains of
+  std::string corrected;              // path of the corrected model, "" when none
+
+  double Bic(const Candidate& c) const {
+    return static_cast<double>(n) * std::log(std::max(c.train * c.train, 1e-300)) +
+           c.k * std::log(static_cast<double>(n));
+  }
+};
+
+// The report (report.cc): diagnosis.json with its figures drawn and listed.
+std::string WriteReport(RunState& s);
+
+}  // namespace gaitforge::diagnosis

@@ -1,0 +1,171 @@
+// A diagnosis report in words (words.h).
+#include "services/diagnosis/words.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "google/protobuf/struct.pb.h"
+#include "google/protobuf/util/json_util.h"
+#include "services/diagnosis/locate.h"
+#include "services/diagnosis/range.h"
+#include "workers/effects/effects.h"
+
+namespace gaitforge::diagnosis {
+namespace {
+
+using google::protobuf::Struct;
+using google::protobuf::Value;
+
+const Value& Field(const Struct& s, const std::string& k) {
+  static const Value null;
+  const auto it = s.fields().find(k);
+  return it == s.fields().end() ? null : it->second;
+}
+double N(const Struct& s, const std::string& k) {
+  const Value& v = Field(s, k);
+  return v.kind_case() == Value::kNumberValue ? v.number_value() : NAN;
+}
+std::string S(const Struct& s, const std::string& k) { return Field(s, k).string_value(); }
+const Struct& O(const Struct& s, const std::string& k) { return Field(s, k).struct_value(); }
+std::string Json(const Value& v) {
+  std::string out;
+  if (v.kind_case() != Value::kStructValue ||
+      !google::protobuf::util::MessageToJsonString(v.struct_value(), &out).ok())
+    return "{}";
+  return out;
+}
+
+std::string End(double v) { return std::isfinite(v) ? absl::StrFormat("%.4g", v) : "open"; }
+
+// One named effect: its meaning, and each parameter's value with its range.
+std::string Named(const Struct& e) {
+  std::string out;
+  const std::string id = S(e, "id");
+  if (const auto* info = effects::FindEffect(id.substr(0, id.find('+'))))
+    absl::StrAppend(&out, "  ", info->name, ": ", info->meaning, "\n");
+  const double tolerance = N(e, "range_tolerance");
+  std::vector<std::pair<double, std::string>> order;  // the genes' order, as fitted
+  for (const auto& [name, pv] : O(e, "params").fields())
+    order.emplace_back(N(pv.struct_value(), "index"), name);
+  std::sort(order.begin(), order.end());
+  for (const auto& [index, name] : order) {
+    const Struct& p = O(e, "params").fields().at(name).struct_value();
+    std::string range;
+    if (name.rfind("nuisance.", 0) == 0) {
+      range = "(the time offset: not a magnitude)";
+    } else if (!std::isfinite(tolerance) || Field(p, "range").kind_case() != Value::kListValue) {
+      range = "(no range: the model failed under a numeric variant, so no floor)";
+    } else {
+      const auto& r = Field(p, "range").list_value().values();
+      auto num = [](const Value& v) {
+        return v.kind_case() == Value::kNumberValue ? v.number_value() : NAN;
+      };
+      range = "range " + End(num(r[0])) + " .. " + End(num(r[1]));
+      if (N(p, "range_share") >= kUndeterminedShare)
+        range += absl::StrFormat(" (%.0f%% of its allowed values: not pinned)",
+                                 100 * N(p, "range_share"));
+    }
+    absl::StrAppend(&out, absl::StrFormat("    %-34s %12.5g  %s\n", name, N(p, "value"), range));
+  }
+  if (std::isfinite(tolerance))
+    absl::StrAppend(&out, absl::StrFormat(
+                              "    (range: where the training error stays within %.3g mm of "
+                              "its least, the model's own spread; %d of %d evaluations)\n",
+                              1000 * tolerance, static_cast<int>(N(e, "range_accepted")),
+                              static_cast<int>(N(e, "range_evaluations"))));
+  return out;
+}
+
+std::string Verdict(const Struct& r) {
+  const Struct& err = O(r, "errors");
+  const Struct& rule = O(r, "rule");
+  const std::string experiment = S(r, "experiment");
+  std::string out;
+  if (S(r, "verdict") == "none") {
+    absl::StrAppend(
+        &out, absl::StrFormat(
+                  "no missing physics found: no candidate beat the baseline by the BIC margin "
+                  "(%g) and cut its held-out error (%.3g mm +- %.2g mm over numerically "
+                  "irrelevant variants) by %d%% with a paired t above %g across the variants\n",
+                  N(rule, "margin"), 1000 * N(err, "baseline_held_out"),
+                  1000 * N(err, "noise_floor_held_out"),
+                  static_cast<int>(N(rule, "held_out_gain") * 100), N(rule, "paired_t")));
+    if (!S(r, "none_reading").empty()) absl::StrAppend(&out, "  ", S(r, "none_reading"), "\n");
+    if (!experiment.empty()) absl::StrAppend(&out, "  ", experiment, "\n");
+    return out;
+  }
+  const auto& effects = Field(r, "effects").list_value().values();
+  std::vector<std::string> labels;
+  for (const auto& e : effects) labels.push_back(S(e.struct_value(), "id"));
+  absl::StrAppend(&out, S(r, "verdict") == "found" ? "found " : "ambiguous between ",
+                  absl::StrJoin(labels, " and "), "\n");
+  for (const auto& e : effects) absl::StrAppend(&out, Named(e.struct_value()));
+  const Struct& first = effects.empty() ? err : effects[0].struct_value();
+  absl::StrAppend(&out, absl::StrFormat(
+                            "  held-out error %.4g -> %.4g mm, training %.4g -> %.4g mm, delta "
+                            "BIC %.1f\n",
+                            1000 * N(err, "baseline_held_out"), 1000 * N(first, "held_out"),
+                            1000 * N(err, "baseline_train"), 1000 * N(first, "train"),
+                            N(first, "delta_bic")));
+  if (!experiment.empty()) absl::StrAppend(&out, "  to tell them apart: ", experiment, "\n");
+  absl::StrAppend(&out, "  corrected model: ", S(r, "corrected_model"), "\n");
+  return out;
+}
+
+// Where it showed (the locate script's summary), the figures, near ties and runners-up.
+std::string Details(const Struct& r) {
+  std::string out;
+  const std::string dir = S(r, "dir");
+  if (!S(O(r, "located"), "summary").empty())
+    absl::StrAppend(&out, "  where it showed: ", S(O(r, "located"), "summary"), "\n");
+  const SpreadReading spread = ReadSpread(Json(Field(r, "located")), Json(Field(r, "located_held_out")));
+  if (S(r, "verdict") != "none" && spread.train_known && !spread.train_beyond)
+    absl::StrAppend(&out,
+                    "  (no slice of the training residuals stands out beyond the model's numeric "
+                    "spread on its own: the named effect shows in the calibration error, which "
+                    "compares whole cycles)\n");
+  absl::StrAppend(&out, "  where the mismatch lives, by slice: ", dir,
+                  "/located.json and located.svg\n");
+  for (const auto& f : Field(r, "figures").list_value().values())
+    if (f.string_value() == dir + "/diagnosis.svg")
+      absl::StrAppend(&out, "  held-out errors and overlays, before and after: ", dir,
+                      "/diagnosis.svg\n");
+  const int top = static_cast<int>(N(r, "top")), singles = static_cast<int>(N(r, "refitted_singles"));
+  if (singles > top)
+    absl::StrAppend(&out, absl::StrFormat("  refitted %d leaders of the screening, not %d: the "
+                                          "last within %g%% of the best %d (a short fit cannot "
+                                          "order near ties)\n",
+                                          singles, top, 100 * N(r, "screening_tie"), top));
+  absl::StrAppend(&out, "  runners-up, and why they lost:\n");
+  for (const auto& v : Field(r, "runners_up").list_value().values()) {
+    const Struct& c = v.struct_value();
+    std::vector<std::string> bound;
+    for (const auto& b : Field(c, "at_bound").list_value().values()) bound.push_back(b.string_value());
+    absl::StrAppend(&out, absl::StrFormat(
+                              "    %s (dBIC %.1f, held-out %.3g mm%s): %s\n", S(c, "id"),
+                              N(c, "delta_bic"), 1000 * N(c, "held_out"),
+                              bound.empty() ? std::string()
+                                            : ", at the edge of its range: " +
+                                                  absl::StrJoin(bound, ", "),
+                              S(c, "why_not")));
+  }
+  absl::StrAppend(&out, "  report: ", dir, "/diagnosis.json\n");
+  return out;
+}
+
+}  // namespace
+
+absl::StatusOr<std::string> ReportWords(const std::string& report_json) {
+  Struct r;
+  if (auto s = google::protobuf::util::JsonStringToMessage(report_json, &r); !s.ok())
+    return absl::InvalidArgumentError(
+        absl::StrCat("the diagnosis report is not JSON: ", s.message().as_string()));
+  return absl::StrCat("diagnosis ", S(r, "name"), ": ", Verdict(r), Details(r));
+}
+
+}  // namespace gaitforge::diagnosis

@@ -1,0 +1,136 @@
+// The gap finder's fits as studies (services/diagnosis/studies.h), on a coordinator held in
+// memory: which studies are created, which reused, what a fit reads back, and stopping.
+#include "services/diagnosis/studies.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+
+#include "services/diagnosis/spec.h"
+#include "services/spec/spec_validation.h"
+
+namespace gaitforge::diagnosis {
+namespace {
+
+// Studies finish as soon as they are created, with a best member whose fitness is -error.
+class MemoryStudies : public Studies {
+ public:
+  std::map<std::string, v1::StudySummary> studies;
+  int created = 0;
+  bool finish = true;
+  double error = 0.002;
+  absl::StatusOr<std::vector<v1::StudySummary>> List() override {
+    std::vector<v1::StudySummary> out;
+    for (const auto& [id, s] : studies) out.push_back(s);
+    return out;
+  }
+  absl::StatusOr<std::string> Create(const v1::StudySpec& spec) override {
+    v1::StudySummary s;
+    s.set_study_id("s" + std::to_string(++created));
+    *s.mutable_spec() = spec;
+    spec::ApplyDefaults(s.mutable_spec());
+    s.set_state(finish ? v1::STUDY_STATE_COMPLETED : v1::STUDY_STATE_RUNNING);
+    studies[s.study_id()] = s;
+    return s.study_id();
+  }
+  absl::StatusOr<v1::StudySummary> Get(const std::string& id) override { return studies.at(id); }
+  absl::StatusOr<v1::GetHallOfFameResponse> HallOfFame(const std::string& id) override {
+    v1::GetHallOfFameResponse r;
+    auto* ind = r.add_entries()->mutable_individual();
+    for (int i = 0; i < studies.at(id).spec().bounds_size(); ++i) ind->add_genes(0.1 * (i + 1));
+    ind->mutable_evaluation()->set_valid(true);
+    ind->mutable_evaluation()->set_fitness(-error);
+    return r;
+  }
+};
+
+v1::DiagnosisSpec Spec() {
+  v1::DiagnosisSpec d;
+  d.set_name("t");
+  d.set_robot("caterpillar");
+  d.add_training("a");
+  d.add_held_out("c");
+  Defaults(&d);
+  return d;
+}
+
+TEST(RunFits, CreatesOneCalibrationStudyPerCandidateAndReadsItsBestFit) {
+  MemoryStudies studies;
+  const v1::DiagnosisSpec d = Spec();
+  Candidate base = Make(d, {}), tether = Make(d, {"tether.constant"});
+  int reused = 0;
+  ASSERT_TRUE(RunFits(studies, d, {&base, &tether}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s",
+                      &reused)
+                  .ok());
+  EXPECT_EQ(studies.created, 2);
+  EXPECT_EQ(reused, 0);
+  const auto& spec = studies.studies.at(tether.study_id).spec();
+  EXPECT_EQ(spec.objective().name(), "caterpillar.calibration");
+  EXPECT_EQ(spec.objective().recordings(0), "a");
+  EXPECT_EQ(spec.objective().held_out(0), "c");
+  EXPECT_EQ(spec.bounds(0).name(), "effect.tether_force_n");
+  EXPECT_TRUE(tether.ok);
+  EXPECT_DOUBLE_EQ(tether.train, 0.002);
+  ASSERT_EQ(tether.values.size(), tether.genes.size());
+}
+
+TEST(RunFits, ReusesAStudyWithTheSameSpecAndSeed) {
+  MemoryStudies studies;
+  const v1::DiagnosisSpec d = Spec();
+  Candidate a = Make(d, {"ground.slope"}), b = Make(d, {"ground.slope"});
+  int reused = 0;
+  ASSERT_TRUE(RunFits(studies, d, {&a}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  ASSERT_TRUE(RunFits(studies, d, {&b}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  EXPECT_EQ(studies.created, 1);
+  EXPECT_EQ(reused, 1);
+  EXPECT_EQ(a.study_id, b.study_id);
+  // Another budget is another study.
+  Candidate c = Make(d, {"ground.slope"});
+  ASSERT_TRUE(RunFits(studies, d, {&c}, 48, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  EXPECT_EQ(studies.created, 2);
+}
+
+TEST(RunFits, AFitWithoutAValidMemberIsNotOkAndSaysWhy) {
+  const v1::DiagnosisSpec d = Spec();
+  Candidate a = Make(d, {});
+  int reused = 0;
+  class NoValid : public MemoryStudies {
+    absl::StatusOr<v1::GetHallOfFameResponse> HallOfFame(const std::string&) override {
+      return v1::GetHallOfFameResponse();
+    }
+  } none;
+  ASSERT_TRUE(RunFits(none, d, {&a}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  EXPECT_FALSE(a.ok);
+  EXPECT_EQ(a.reason, "no valid fit");
+}
+
+TEST(RunFits, StopsWhenTheReporterSaysSoAndReportsProgress) {
+  MemoryStudies studies;
+  studies.finish = false;
+  const v1::DiagnosisSpec d = Spec();
+  Candidate a = Make(d, {});
+  int reused = 0, reports = 0;
+  Reporter r;
+  r.stopped = [] { return true; };
+  r.progress = [&](const Reporter::Progress& p) {
+    ++reports;
+    EXPECT_EQ(p.stage, "baseline");
+    EXPECT_EQ(p.fits, 1);
+    EXPECT_EQ(p.fits_done, 0);
+  };
+  const absl::Status s = RunFits(studies, d, {&a}, 24, {{"a"}, {"c"}, ""}, r, "baseline", &reused);
+  EXPECT_EQ(s.code(), absl::StatusCode::kCancelled);
+  EXPECT_EQ(reports, 1);
+}
+
+TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOnes) {
+  v1::DiagnosisSpec d = Spec();
+  d.set_robot("twobox");
+  const absl::Status s = Validate(d);
+  EXPECT_NE(s.message().find("field 'robot': 'twobox'"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("known: caterpillar"), std::string::npos) << s;
+}
+
+}  // namespace
+}  // namespace gaitforge::diagnosis

@@ -1,0 +1,66 @@
+// A diagnosis report in words (services/diagnosis/words.h), from report JSON shaped as
+// report.cc writes it.
+#include "services/diagnosis/words.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace gaitforge::diagnosis {
+namespace {
+
+const char* kFound = R"({"name": "hose", "robot": "caterpillar", "verdict": "found",
+ "effects": [{"id": "tether.constant", "params": {
+   "nuisance.time_offset_s": {"index": 1, "value": -0.04, "sd": 0.04, "lo": -0.05, "hi": 0.05},
+   "effect.tether_force_n": {"index": 0, "value": 1.18, "sd": 1.2, "lo": 0, "hi": 2.5,
+                             "range": [0.85, 1.42], "range_share": 0.23}},
+   "range_tolerance": 0.0003, "range_evaluations": 33, "range_accepted": 18,
+   "train": 0.0005, "held_out": 0.00054, "delta_bic": -5619.9}],
+ "errors": {"baseline_train": 0.0033, "baseline_held_out": 0.0018, "noise_floor_held_out": 0.0003},
+ "runners_up": [{"id": "ground.slope", "delta_bic": -1731.6, "held_out": 0.00184,
+   "at_bound": ["effect.slope_rad"], "why_not": "it absorbs the training mismatch"}],
+ "top": 2, "screening_tie": 0, "refitted_singles": 2, "none_reading": "",
+ "located": {"summary": "The mismatch lives mainly in forward travel"},
+ "located_held_out": {}, "experiment": "", "corrected_model": "out/d/corrected-model.yaml",
+ "rule": {"margin": 10, "held_out_gain": 0.15, "paired_t": 2.015}, "dir": "out/d",
+ "figures": ["out/d/located.svg", "out/d/diagnosis.svg"]})";
+
+TEST(ReportWords, AFoundEffectWithItsMagnitudesInGeneOrderAndTheRunnersUp) {
+  auto w = ReportWords(kFound);
+  ASSERT_TRUE(w.ok()) << w.status();
+  EXPECT_EQ(w->rfind("diagnosis hose: found tether.constant\n", 0), 0u) << *w;
+  const size_t force = w->find("effect.tether_force_n"), offset = w->find("nuisance.time_offset_s");
+  ASSERT_NE(force, std::string::npos) << *w;
+  EXPECT_LT(force, offset) << "genes in the order fitted";
+  EXPECT_NE(w->find("range 0.85 .. 1.42"), std::string::npos) << *w;
+  EXPECT_NE(w->find("held-out error 1.8 -> 0.54 mm"), std::string::npos) << *w;
+  EXPECT_NE(w->find("where it showed: The mismatch lives mainly in forward travel"),
+            std::string::npos);
+  EXPECT_NE(w->find("out/d/diagnosis.svg"), std::string::npos);
+  EXPECT_NE(w->find("ground.slope (dBIC -1731.6, held-out 1.84 mm, at the edge of its range: "
+                    "effect.slope_rad): it absorbs the training mismatch"),
+            std::string::npos)
+      << *w;
+}
+
+TEST(ReportWords, NoneSaysWhatTheRuleAskedAndWhatTheSpreadMeans) {
+  auto w = ReportWords(R"({"name": "n", "verdict": "none", "effects": [],
+    "errors": {"baseline_held_out": 0.002, "noise_floor_held_out": 0.0004},
+    "rule": {"margin": 10, "held_out_gain": 0.15, "paired_t": 2.015},
+    "none_reading": "the calibrated model matches within its numeric spread",
+    "experiment": "", "runners_up": [], "dir": "o"})");
+  ASSERT_TRUE(w.ok()) << w.status();
+  EXPECT_NE(w->find("no missing physics found"), std::string::npos) << *w;
+  EXPECT_NE(w->find("(2 mm +- 0.4 mm"), std::string::npos) << *w;
+  EXPECT_NE(w->find("by 15% with a paired t above 2.015"), std::string::npos) << *w;
+  EXPECT_NE(w->find("matches within its numeric spread"), std::string::npos) << *w;
+}
+
+TEST(ReportWords, NotJsonIsAnErrorSayingSo) {
+  auto w = ReportWords("{verdict");
+  ASSERT_FALSE(w.ok());
+  EXPECT_NE(w.status().message().find("not JSON"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gaitforge::diagnosis
