@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "storage/diagnosis_rows.h"
 #include "storage/migrations.h"
 #include "storage/sqlite_util.h"
 #include "storage/study_store.h"
@@ -267,6 +268,18 @@ class SqliteStore final : public StudyStore {
                         if (!s.ok()) return s;
                         return *inserted;
                       });
+  }
+
+  std::future<absl::Status> PutDiagnosis(const DiagnosisRecord& d) override {
+    return Submit([d](sqlite3* db) { return WriteDiagnosis(db, d); });
+  }
+
+  absl::StatusOr<DiagnosisRecord> GetDiagnosis(const std::string& id, bool with_files) override {
+    return WithReader([&](sqlite3* db) { return ReadDiagnosis(db, id, with_files); });
+  }
+
+  absl::StatusOr<std::vector<DiagnosisRecord>> ListDiagnoses() override {
+    return WithReader([&](sqlite3* db) { return ReadDiagnoses(db); });
   }
 
   absl::StatusOr<RecordingRecord> GetRecording(const std::string& hash, bool with_bytes) override {

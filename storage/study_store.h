@@ -109,6 +109,20 @@ struct RecordingRecord {
   int64_t bytes = 0;    // CSV plus sidecar, also when listed without them
 };
 
+// A diagnosis as a stored job (docs/diagnosis.md, "Stored diagnoses").
+struct DiagnosisRecord {
+  std::string diagnosis_id;
+  std::string name;
+  std::string spec;     // serialized DiagnosisSpec
+  std::string state;    // running | completed | failed | cancelled
+  std::string verdict;  // found | ambiguous | none, once completed
+  std::string error;
+  std::string report;   // diagnosis.json; empty when listed
+  int64_t created_ms = 0;
+  int64_t updated_ms = 0;
+  std::vector<std::pair<std::string, std::string>> files;  // (name, content); when asked for
+};
+
 struct Durability {
   // synchronous=FULL: a commit survives power loss. NORMAL: survives a process crash.
   bool full_sync = true;
@@ -131,6 +145,9 @@ class StudyStore {
   // Stores a recording unless one with its hash exists; the future holds true if stored.
   virtual std::future<absl::StatusOr<bool>> PutRecording(const RecordingRecord& recording) = 0;
 
+  // Inserts or replaces a diagnosis (with its files, when it has any).
+  virtual std::future<absl::Status> PutDiagnosis(const DiagnosisRecord& diagnosis) = 0;
+
   // Reads. NotFound names the study id.
   virtual absl::StatusOr<StudyRecord> GetStudy(const std::string& study_id) = 0;
   virtual absl::StatusOr<std::vector<StudyRecord>> ListStudies() = 0;
@@ -147,6 +164,9 @@ class StudyStore {
   virtual absl::StatusOr<RecordingRecord> GetRecording(const std::string& hash,
                                                       bool with_bytes) = 0;
   virtual absl::StatusOr<std::vector<RecordingRecord>> ListRecordings() = 0;
+  virtual absl::StatusOr<DiagnosisRecord> GetDiagnosis(const std::string& id,
+                                                       bool with_files) = 0;
+  virtual absl::StatusOr<std::vector<DiagnosisRecord>> ListDiagnoses() = 0;
   // Blocks until every write submitted so far is committed.
   virtual absl::Status Flush() = 0;
   // Called on the writer thread after each transaction with its duration in seconds. Set

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gaitforge/v1/diagnosis.grpc.pb.h"
 #include "gaitforge/v1/study.grpc.pb.h"
 
 namespace gaitforge::cli {
@@ -139,6 +140,14 @@ int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::Stu
 int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
                       const GlobalOptions& g, std::vector<std::string>* written);
 
+// Waits for a stored diagnosis (progress on stderr unless --json), copies its files into
+// out_root/NAME-diagnosis and prints it. `runner`: the coordinator runs diagnoses (else a
+// running one is interrupted).
+int AwaitDiagnosis(v1::DiagnosisService::Stub& stub, const std::string& id,
+                   const std::string& out_root, const GlobalOptions& g, bool runner);
+int CmdDiagnosis(const GlobalOptions& g, const std::vector<std::string>& args,
+                 const std::string& out_root);
+int CmdDiagnoses(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
                 int threads, const std::string& out_dir);
 // Starts local worker processes against target (logs next to the database).

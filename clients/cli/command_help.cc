@@ -69,10 +69,24 @@ std::vector<CommandHelp> Build() {
       {"diagnose", "SPEC",
        "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
        "                  fit it and show the held-out error fall (docs/diagnosis.md)",
-       "Calibrates the baseline, locates the mismatch, screens and refits the candidate\n"
-       "effects, and decides found / none / ambiguous (docs/diagnosis.md).",
+       "Uploads the spec's recordings and asks the coordinator to run the diagnosis as a\n"
+       "stored job (it calibrates the baseline, locates the mismatch, screens and refits the\n"
+       "candidate effects, and decides found / none / ambiguous); waits for it, copies its\n"
+       "report and figures into --out/NAME-diagnosis and prints it. The same spec again\n"
+       "returns the stored diagnosis, or takes an interrupted one up where it stopped.",
        Connection({"workers", "threads", "out", "json"}),
        "gaitforge diagnose examples/diagnosis-hose.yaml --workers 2"},
+      {"diagnoses", "",
+       "the stored diagnoses: id, state, verdict, progress (docs/diagnosis.md)",
+       "Lists every diagnosis in the database, oldest first; --json gives\n"
+       "gaitforge.v1.ListDiagnosesResponse.",
+       Connection({"json"}), "gaitforge diagnoses --json"},
+      {"diagnosis", "ID",
+       "a stored diagnosis: waits for it, copies its report and figures, prints it",
+       "Waits while the diagnosis runs (progress on stderr), then copies its report and\n"
+       "figures into --out/NAME-diagnosis and prints the report in words (--json: the report\n"
+       "itself, docs/effects.md). Exit 1 when it failed, was cancelled or is interrupted.",
+       Connection({"out", "json"}), "gaitforge diagnosis hose-4f2a9c --out figures"},
       {"recording", "add FILE.csv | list",
        "recording add FILE.csv: upload a recording (+ FILE.csv.json); prints its hash;\n"
        "                  recording list: the stored recordings",

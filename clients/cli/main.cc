@@ -104,6 +104,8 @@ int main(int argc, char** argv) {
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
   if (cmd == "diagnose") return cli::CmdDiagnose(g, args, workers, threads, out_dir);
+  if (cmd == "diagnosis") return cli::CmdDiagnosis(g, args, out_dir);
+  if (cmd == "diagnoses") return cli::CmdDiagnoses(g, args);
   if (cmd == "robots") return cli::CmdRobots(g, args);
   if (cmd == "recording") return cli::CmdRecording(g, args, sidecar);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);

@@ -16,19 +16,6 @@
 namespace gaitforge::coordinator {
 namespace {
 
-std::string NewStudyId(const std::string& name) {
-  std::string slug;
-  for (char c : name) {
-    if (std::isalnum(static_cast<unsigned char>(c))) slug += static_cast<char>(std::tolower(c));
-    else if (!slug.empty() && slug.back() != '-') slug += '-';
-    if (slug.size() >= 32) break;
-  }
-  while (!slug.empty() && slug.back() == '-') slug.pop_back();
-  if (slug.empty()) slug = "study";
-  std::random_device rd;
-  return absl::StrCat(slug, "-", absl::Hex(rd() & 0xffffff, absl::kZeroPad6));
-}
-
 uint32_t NewEpoch() {
   std::random_device rd;
   uint32_t e = rd();
@@ -54,6 +41,19 @@ std::string AllInvalidError(int generation, int members,
 }
 
 }  // namespace
+
+std::string NewId(const std::string& name) {
+  std::string slug;
+  for (char c : name) {
+    if (std::isalnum(static_cast<unsigned char>(c))) slug += static_cast<char>(std::tolower(c));
+    else if (!slug.empty() && slug.back() != '-') slug += '-';
+    if (slug.size() >= 32) break;
+  }
+  while (!slug.empty() && slug.back() == '-') slug.pop_back();
+  if (slug.empty()) slug = "study";
+  std::random_device rd;
+  return absl::StrCat(slug, "-", absl::Hex(rd() & 0xffffff, absl::kZeroPad6));
+}
 
 Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
                          core::Clock& clock)
@@ -98,7 +98,7 @@ absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   if (!engine.ok()) return engine.status();
 
   storage::StudyRecord r;
-  r.study_id = NewStudyId(spec.name());
+  r.study_id = NewId(spec.name());
   r.name = spec.name();
   r.spec = spec.SerializeAsString();
   google::protobuf::util::JsonPrintOptions jo;

@@ -47,6 +47,10 @@ struct CoordinatorOptions {
   size_t max_recording_bytes = 64u << 20;
 };
 
+// A new id for a study or a diagnosis: its name as a slug (at most 32 characters) and six
+// random hex digits.
+std::string NewId(const std::string& name);
+
 class Coordinator {
  public:
   Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
@@ -87,6 +91,7 @@ class Coordinator {
 
   queue::QueueCounters QueueStats();
   Recordings& recordings() { return *recordings_; }
+  storage::StudyStore& store() { return *store_; }
 
  private:
   struct Result {

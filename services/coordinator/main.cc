@@ -1,5 +1,6 @@
 // gaitforge-coordinator: holds studies (engine + job queue + SQLite store) and serves the
-// StudyService, the WorkerService and grpc.health.v1 on one port.
+// StudyService, the WorkerService, the RecordingService, the DiagnosisService and
+// grpc.health.v1 on one port.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <fcntl.h>
@@ -21,6 +22,7 @@
 #include "services/coordinator/coordinator.h"
 #include "services/coordinator/listen.h"
 #include "services/coordinator/metrics.h"
+#include "services/coordinator/diagnosis_service.h"
 #include "services/coordinator/services.h"
 #include "services/core/db_path.h"
 #include "services/core/flags.h"
@@ -167,10 +169,14 @@ int main(int argc, char** argv) {
   (*store)->SetCommitObserver([&metrics](double s) { metrics.Commit(s); });
   coordinator::Coordinator coord(std::move(*store), options, core::RealClock());
   if (auto s = coord.RecoverStudies(); !s.ok()) return Fail(std::string(s.message()));
+  // Stored diagnoses work beside the database, in DB.diagnoses/ID.
+  coordinator::Diagnoses diagnoses(coord, options.db_path + ".diagnoses", read_only);
+  if (auto s = diagnoses.Recover(); !s.ok()) return Fail(std::string(s.message()));
 
   coordinator::StudyServiceImpl study_service(coord, *auth);
   coordinator::WorkerServiceImpl worker_service(coord, *auth);
   coordinator::RecordingServiceImpl recording_service(coord, *auth);
+  coordinator::DiagnosisServiceImpl diagnosis_service(diagnoses, *auth);
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;
   int port = 0;
@@ -178,6 +184,7 @@ int main(int argc, char** argv) {
   builder.RegisterService(&study_service);
   builder.RegisterService(&worker_service);
   builder.RegisterService(&recording_service);
+  builder.RegisterService(&diagnosis_service);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
   builder.SetMaxSendMessageSize(kMaxMessageBytes);
   // Keepalive on both sides (../shared/guides/distributed-notes.md): accept client pings
@@ -236,6 +243,7 @@ int main(int argc, char** argv) {
   sigwait(&sigs, &sig);
   if (!address_file.empty()) std::filesystem::remove(address_file, ec);
   spdlog::info("signal {}: shutting down", sig);
+  diagnoses.Shutdown();  // they stay running in the database; the next start resumes them
   coord.Shutdown();  // wakes long polls and watchers
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   stop = true;

@@ -7,18 +7,7 @@
 namespace gaitforge::coordinator {
 namespace {
 
-template <typename T, typename Out>
-grpc::Status Reply(absl::StatusOr<T> r, Out* out) {
-  if (!r.ok()) return ToGrpc(r.status());
-  *out = std::move(*r);
-  return grpc::Status::OK;
-}
-
-grpc::Status NeedId(const std::string& id) {
-  if (id.empty())
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "field 'study_id' is required");
-  return grpc::Status::OK;
-}
+grpc::Status NeedId(const std::string& id) { return NeedField(id, "study_id"); }
 
 }  // namespace
 

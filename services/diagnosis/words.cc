@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <utility>
 #include <vector>
 
@@ -118,9 +119,8 @@ std::string Verdict(const Struct& r) {
 }
 
 // Where it showed (the locate script's summary), the figures, near ties and runners-up.
-std::string Details(const Struct& r) {
+std::string Details(const Struct& r, const std::string& dir) {
   std::string out;
-  const std::string dir = S(r, "dir");
   if (!S(O(r, "located"), "summary").empty())
     absl::StrAppend(&out, "  where it showed: ", S(O(r, "located"), "summary"), "\n");
   const SpreadReading spread = ReadSpread(Json(Field(r, "located")), Json(Field(r, "located_held_out")));
@@ -132,7 +132,7 @@ std::string Details(const Struct& r) {
   absl::StrAppend(&out, "  where the mismatch lives, by slice: ", dir,
                   "/located.json and located.svg\n");
   for (const auto& f : Field(r, "figures").list_value().values())
-    if (f.string_value() == dir + "/diagnosis.svg")
+    if (std::filesystem::path(f.string_value()).filename() == "diagnosis.svg")
       absl::StrAppend(&out, "  held-out errors and overlays, before and after: ", dir,
                       "/diagnosis.svg\n");
   const int top = static_cast<int>(N(r, "top")), singles = static_cast<int>(N(r, "refitted_singles"));
@@ -160,12 +160,19 @@ std::string Details(const Struct& r) {
 
 }  // namespace
 
-absl::StatusOr<std::string> ReportWords(const std::string& report_json) {
+absl::StatusOr<std::string> ReportWords(const std::string& report_json, const std::string& dir) {
   Struct r;
   if (auto s = google::protobuf::util::JsonStringToMessage(report_json, &r); !s.ok())
     return absl::InvalidArgumentError(
         absl::StrCat("the diagnosis report is not JSON: ", s.message().as_string()));
-  return absl::StrCat("diagnosis ", S(r, "name"), ": ", Verdict(r), Details(r));
+  const std::string where = dir.empty() ? S(r, "dir") : dir;
+  std::string verdict = Verdict(r);
+  if (!dir.empty()) {  // the corrected model is among the files copied to dir
+    const std::string was = S(r, "corrected_model");
+    if (const size_t at = verdict.find(was); !was.empty() && at != std::string::npos)
+      verdict.replace(at, was.size(), where + "/corrected-model.yaml");
+  }
+  return absl::StrCat("diagnosis ", S(r, "name"), ": ", verdict, Details(r, where));
 }
 
 }  // namespace gaitforge::diagnosis

@@ -11,6 +11,9 @@
 
 namespace gaitforge::diagnosis {
 
-absl::StatusOr<std::string> ReportWords(const std::string& report_json);
+// With `dir`, the report's files are named in dir (where a client copied them) instead of
+// the folder the report was written in.
+absl::StatusOr<std::string> ReportWords(const std::string& report_json,
+                                        const std::string& dir = "");
 
 }  // namespace gaitforge::diagnosis

@@ -219,5 +219,17 @@ TEST(Metrics, TheEndpointAgreesWithTheDatabaseAfterAStudy) {
   EXPECT_EQ(depth, 0);
 }
 
+// Stored diagnoses obey the same tokens as studies.
+TEST_F(Secured, DiagnosesNeedAClientToken) {
+  auto r = Cli("", "diagnoses");
+  EXPECT_EQ(r.exit_code, 6) << r.err;
+  EXPECT_NE(r.err.find("missing 'authorization: Bearer TOKEN'"), std::string::npos) << r.err;
+  EXPECT_EQ(Cli("worker.tok", "diagnoses").exit_code, 6);
+  EXPECT_EQ(Cli("worker.tok", "diagnosis some-id").exit_code, 6);
+  r = Cli("client.tok", "diagnoses --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Cli("client.tok", "diagnosis no-such-id").exit_code, 3);
+}
+
 }  // namespace
 }  // namespace gaitforge::testing
