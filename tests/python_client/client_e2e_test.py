@@ -156,6 +156,42 @@ def check_recording_and_control(gf, tmp, errors):
         check(e.exit_code == 1, f"StudyNotCompleted: {e}")
 
 
+def check_diagnosis(gf, tmp, errors):
+    """A stored diagnosis from a spec file: its recordings uploaded, run by the coordinator,
+    its report and files back; the same spec again is the same diagnosis."""
+    cases = os.path.join(REPO, "tests", "diagnosis", "cases", "tether-hose")
+    spec_path = os.path.join(tmp, "diag.yaml")
+    with open(spec_path, "w") as f:
+        f.write("name: py\nseed: 3\n"
+                f"training: [{cases}/train/gait-a.csv, {cases}/train/gait-b.csv]\n"
+                f"held_out: [{cases}/held_out/gait-c.csv]\n"
+                "candidates: [tether.constant, ground.slope]\n"
+                "screening_evaluations: 16\nfull_evaluations: 24\ntop: 2\ntry_pairs: false\n")
+    did = gf.diagnose(spec_path)
+    seen = []
+    got = gf.diagnosis(did, wait=True, on_progress=seen.append,
+                       files_dir=os.path.join(tmp, "diag-files"))
+    check(got["state"] == "completed", f"diagnosis completed: {got['state']} {got['error']}")
+    check(got["report"]["verdict"] == "found" and
+          got["report"]["effects"][0]["id"] == "tether.constant", "diagnosis finds the hose")
+    check(len(got["spec"]["training"][0]) == 64, "diagnosis spec: recordings by hash")
+    check(os.path.exists(os.path.join(tmp, "diag-files", "diagnosis.svg")), "diagnosis files written")
+    check(gf.diagnose(spec_path) == did, "the same spec again: the same diagnosis")
+    listed = gf.diagnoses()
+    check([d["diagnosis_id"] for d in listed] == [did] and listed[0]["verdict"] == "found",
+          "diagnoses lists it")
+    try:
+        gf.diagnose({"name": "bad", "training": [], "held_out": []})
+        check(False, "a diagnosis spec without recordings is refused")
+    except errors.InvalidSpec as e:
+        check("training" in e.message, f"InvalidSpec names the field: {e.message}")
+    try:
+        gf.diagnosis("no-such-diagnosis")
+        check(False, "an unknown diagnosis raises")
+    except errors.NotFound as e:
+        check(e.exit_code == 3, f"NotFound: {e}")
+
+
 def compare_with_cli(bin_dir, db, sid, history, hof, members):
     cli = cli_json(bin_dir, db, "history", sid)["generations"]
     check(len(cli) == len(history) and all(
@@ -244,6 +280,7 @@ def main():
             check_errors(gf, tmp, errors)
             check_recording_and_control(gf, tmp, errors)
             check_robot_folder(gf, REPO, errors)
+            check_diagnosis(gf, tmp, errors)
         compare_with_cli(a.bin_dir, db, sid, history, hof, members)
         check_tokens(a.bin_dir, tmp, Client, errors)
     finally:

@@ -5,6 +5,7 @@ import os
 
 import grpc
 
+from . import diagnoses as diag
 from . import spec as specs
 from . import stubs, tables
 from .errors import (GaitforgeError, InvalidRequest, InvalidSpec, NotFound, StudyNotCompleted,
@@ -37,6 +38,8 @@ class Client:
             self._channel = grpc.insecure_channel(target, options)
         self._studies = stubs.load("study_pb2_grpc").StudyServiceStub(self._channel)
         self._recordings = stubs.load("recording_pb2_grpc").RecordingServiceStub(self._channel)
+        self._diag_pb = stubs.load("diagnosis_pb2")
+        self._diagnoses = stubs.load("diagnosis_pb2_grpc").DiagnosisServiceStub(self._channel)
 
     @classmethod
     @contextlib.contextmanager
@@ -176,6 +179,52 @@ class Client:
     def recordings(self, as_dataframe=False):
         reply = self._call(self._recordings.ListRecordings, self._rec_pb.ListRecordingsRequest())
         return tables.table([tables.fields(r) for r in reply.recordings], as_dataframe)
+
+    # -- diagnoses --
+
+    def diagnose(self, spec):
+        """Starts a diagnosis on the coordinator (a dict of DiagnosisSpec fields, or a YAML/
+        JSON file whose recordings are uploaded); its id. The same spec again returns the
+        running or completed diagnosis with that spec."""
+        data, _ = diag.read_spec(spec, self._upload_for_spec)
+        message = specs.to_message(data, self._diag_pb.DiagnosisSpec)
+        reply = self._call(self._diagnoses.CreateDiagnosis,
+                           self._diag_pb.CreateDiagnosisRequest(spec=message), spec_call=True)
+        return reply.diagnosis_id
+
+    def diagnoses(self, as_dataframe=False):
+        """Every stored diagnosis's summary, oldest first."""
+        reply = self._call(self._diagnoses.ListDiagnoses, self._diag_pb.ListDiagnosesRequest())
+        return tables.table([diag.summary(d) for d in reply.diagnoses], as_dataframe)
+
+    def diagnosis(self, diagnosis_id, wait=False, on_progress=None, files_dir=None, poll=0.5):
+        """The diagnosis's summary with `report` (diagnosis.json as a dict, once completed)
+        and `files`. wait: poll until it ends, calling on_progress(summary) on each change;
+        then StudyNotCompleted if it failed or was cancelled. files_dir: write its report and
+        figures there."""
+        import time
+        seen = None
+        while True:
+            reply = self._call(self._diagnoses.GetDiagnosis,
+                               self._diag_pb.GetDiagnosisRequest(diagnosis_id=diagnosis_id))
+            row = diag.summary(reply.diagnosis)
+            if not wait or row["state"] != "running":
+                break
+            if on_progress is not None and row["progress"] != seen:
+                on_progress(row)
+                seen = row["progress"]
+            time.sleep(poll)
+        if wait and row["state"] in ("failed", "cancelled"):
+            raise StudyNotCompleted(f"diagnosis {diagnosis_id} ended {row['state']}"
+                                    + (f": {row['error']}" if row["error"] else ""), row)
+        reply = self._call(self._diagnoses.GetDiagnosis, self._diag_pb.GetDiagnosisRequest(
+            diagnosis_id=diagnosis_id, with_files=row["state"] == "completed"))
+        return diag.with_report(reply, files_dir)
+
+    def cancel_diagnosis(self, diagnosis_id):
+        """Stops a running diagnosis at its next check; its summary."""
+        return diag.summary(self._call(self._diagnoses.CancelDiagnosis,
+                                       self._diag_pb.CancelDiagnosisRequest(diagnosis_id=diagnosis_id)))
 
     def _upload_for_spec(self, path):
         return self.add_recording(path)["hash"]

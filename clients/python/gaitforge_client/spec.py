@@ -98,6 +98,11 @@ def _names(listed):
     return ", ".join(re.sub(r"[A-Z]", lambda m: "_" + m.group(0).lower(), n) for n in names)
 
 
+def is_hash(text):
+    """True for a recording's content hash (64 lowercase hex digits)."""
+    return bool(_HASH.match(text))
+
+
 def with_uploaded_recordings(data, base_dir, upload):
     """A copy of `data` whose recording paths are replaced by the hashes `upload(path)` returns."""
     data = copy.deepcopy(data)
@@ -106,6 +111,6 @@ def with_uploaded_recordings(data, base_dir, upload):
         entries = objective.get(key)
         if not isinstance(entries, list):
             continue
-        objective[key] = [e if not isinstance(e, str) or _HASH.match(e) or not e
+        objective[key] = [e if not isinstance(e, str) or is_hash(e) or not e
                           else upload(os.path.join(base_dir, e)) for e in entries]
     return data
