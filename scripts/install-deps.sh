@@ -11,6 +11,8 @@ PACKAGES=(
   iproute2 nftables
   python3 python3-matplotlib python3-numpy
   python3-grpcio python3-protobuf python3-yaml python3-pandas
+  # The dashboard's browser test (tests/dashboard): headless Chromium driven by Selenium.
+  chromium chromium-driver python3-selenium
 )
 
 missing=()
