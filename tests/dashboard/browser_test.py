@@ -203,7 +203,23 @@ def live_study(driver, bin_dir, work, shots):
         unknown_study(driver, base, shots)
     finally:
         stop(proc)
-    return weight, first_point_s
+    return weight, first_point_s, study
+
+
+def dashboard_command(bin_dir, work, study):
+    """`gaitforge dashboard` serves the database the study left until it is stopped."""
+    proc = subprocess.Popen([os.path.join(bin_dir, "gaitforge"), "dashboard"], cwd=work,
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        base = proc.stdout.readline().strip()
+        check(base.startswith("http://127.0.0.1:"), f"gaitforge dashboard prints its URL {base!r}")
+        code, body = http_status(base + "api/studies/" + study + "/history?since=1")
+        gens = json.loads(body)["generations"] if code == 200 else []
+        check(gens and gens[0]["generation"] == 1,
+              f"it serves the stored study: {len(gens)} generations since 1")
+    finally:
+        stop(proc)
+    check(proc.returncode == 0, f"Ctrl-C stops gaitforge dashboard (exit {proc.returncode})")
 
 
 def http_status(url, token=None):
@@ -272,7 +288,8 @@ def main():
     with tempfile.TemporaryDirectory(prefix="gaitforge-dashboard-") as work:
         driver = browser()
         try:
-            weight, first_point_s = live_study(driver, a.bin_dir, work, a.screenshots)
+            weight, first_point_s, study = live_study(driver, a.bin_dir, work, a.screenshots)
+            dashboard_command(a.bin_dir, work, study)
             tokens(driver, a.bin_dir, work, a.screenshots)
         except Exception:
             driver.save_screenshot(os.path.join(a.screenshots, "failure.png"))

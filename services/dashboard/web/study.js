@@ -60,7 +60,9 @@
     const opts = {
       width: Math.max(300, s.curve.clientWidth || 800), height: 280,
       scales: { x: { time: false } },
-      axes: [{ label: "generation" }, { label: "fitness" }],
+      // Generations are whole numbers: no tick between two of them.
+      axes: [{ label: "generation", incrs: [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000] },
+        { label: "fitness" }],
       series: [{ label: "generation" },
         { label: "best", stroke: "#c0392b", width: 2 },
         { label: "mean", stroke: "#2e6fd8", width: 1.5 }],
