@@ -7,10 +7,12 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev libeigen3-dev libode-dev
-  libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev openssl
+  libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev libcivetweb-dev openssl
   iproute2 nftables
   python3 python3-matplotlib python3-numpy
   python3-grpcio python3-protobuf python3-yaml python3-pandas
+  # The dashboard's browser test (tests/dashboard): headless Chromium driven by Selenium.
+  chromium chromium-driver python3-selenium
 )
 
 missing=()

@@ -30,6 +30,10 @@ struct GlobalOptions {
   bool csv = false;
   std::string tls_ca, tls_cert, tls_key;  // TLS to --coordinator
   std::string token;                      // bearer token (client role), from a file or env
+  // Where a coordinator this process starts serves the web dashboard (HOST:PORT, port 0:
+  // any free one); empty: none. Set for the commands that run studies (local, resume,
+  // diagnose) and `dashboard`.
+  std::string dashboard;
 };
 
 // Where embedded coordinators and workers log: logs/ in the database's folder.
@@ -54,11 +58,14 @@ class Connection {
   pid_t embedded_pid() const { return pid_; }
   // True when talking to the coordinator that holds the database (see Open).
   bool shared() const { return shared_; }
+  // The URL of the coordinator's web dashboard ("" when it serves none, or is remote).
+  const std::string& dashboard_url() const { return dashboard_url_; }
 
  private:
   std::string target_;
   pid_t pid_ = 0;
   bool shared_ = false;
+  std::string dashboard_url_;
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::StudyService::Stub> study_;
 };
@@ -108,6 +115,8 @@ int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdHealth(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
              int threads, const std::string& out_dir);
+// `dashboard`: the web dashboard of the local database until Ctrl-C (dashboard.cc).
+int CmdDashboard(const GlobalOptions& g, const std::vector<std::string>& args);
 
 int CmdPlot(const GlobalOptions& g, const std::vector<std::string>& args,
             const std::string& out_dir);

@@ -1,4 +1,3 @@
-#include <google/protobuf/util/json_util.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include "clients/cli/processes.h"
 #include "services/core/db_path.h"
 #include "services/rpc/channel.h"
+#include "services/rpc/proto_json.h"
 
 namespace gaitforge::cli {
 
@@ -65,11 +65,13 @@ std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writab
     if (holder && holder->address.rfind("127.0.0.1:", 0) == 0) {
       c->target_ = holder->address;
       c->shared_ = true;
+      c->dashboard_url_ = holder->dashboard;
       if (!g.json)
         std::cerr << "gaitforge: using the coordinator that holds " << g.db << " (pid "
                   << holder->pid << ", " << holder->address << ")\n";
     } else {
-      c->pid_ = StartCoordinator(g.db, !writable, LogsDir(g), &c->target_, error);
+      c->pid_ = StartCoordinator(g.db, !writable, LogsDir(g), &c->target_, error, g.dashboard,
+                                 &c->dashboard_url_);
       if (c->pid_ < 0) return nullptr;
     }
   }
@@ -134,14 +136,7 @@ int ReportRpcError(const grpc::Status& s, const std::string& what) {
   }
 }
 
-std::string ToJson(const google::protobuf::Message& m) {
-  std::string out;
-  google::protobuf::util::JsonPrintOptions o;
-  o.preserve_proto_field_names = true;
-  o.always_print_primitive_fields = true;
-  (void)google::protobuf::util::MessageToJsonString(m, &out, o);
-  return out;
-}
+std::string ToJson(const google::protobuf::Message& m) { return rpc::ToJson(m); }
 
 std::string StateName(v1::StudyState s) {
   switch (s) {

@@ -18,9 +18,11 @@ std::vector<CommandHelp> Build() {
       {"local", "SPEC",
        "run a study on this machine: a coordinator, N workers, SQLite under ./runs/",
        "Validates the spec, starts a coordinator on --db and --workers worker processes, runs\n"
-       "the study to its end with a progress bar, then draws its figures under --out.\n"
+       "the study to its end with a progress bar, then draws its figures under --out. The\n"
+       "coordinator serves the web dashboard (--dashboard; docs/dashboard.md): its URL is\n"
+       "printed as the study starts.\n"
        "Ctrl-C stops everything; 'gaitforge resume ID' continues the study.",
-       {"db", "timeout", "workers", "threads", "out", "json"},
+       {"db", "timeout", "workers", "threads", "out", "dashboard", "json"},
        "gaitforge local examples/analytic-ga.yaml --workers 2"},
       {"submit", "SPEC", "create a study on a coordinator (--coordinator); prints its id",
        "Validates the spec, uploads the recordings it names by file and creates the study on\n"
@@ -74,7 +76,7 @@ std::vector<CommandHelp> Build() {
        "candidate effects, and decides found / none / ambiguous); waits for it, copies its\n"
        "report and figures into --out/NAME-diagnosis and prints it. The same spec again\n"
        "returns the stored diagnosis, or takes an interrupted one up where it stopped.",
-       Connection({"workers", "threads", "out", "json"}),
+       Connection({"workers", "threads", "out", "dashboard", "json"}),
        "gaitforge diagnose examples/diagnosis-hose.yaml --workers 2"},
       {"diagnoses", "",
        "the stored diagnoses: id, state, verdict, progress (docs/diagnosis.md)",
@@ -104,7 +106,13 @@ std::vector<CommandHelp> Build() {
       {"resume", "ID", "continue a cancelled or interrupted study",
        "Continues a cancelled, failed or interrupted study: with --coordinator there, else\n"
        "like 'local', with local workers.",
-       Connection({"workers", "threads", "out", "json"}), "gaitforge resume analytic-ga-3f09a1"},
+       Connection({"workers", "threads", "out", "dashboard", "json"}),
+       "gaitforge resume analytic-ga-3f09a1"},
+      {"dashboard", "", "the web dashboard of the local database, until Ctrl-C",
+       "Prints the URL of a read-only web dashboard of --db (studies, live fitness curves,\n"
+       "hall of fame with gait diagrams, history; docs/dashboard.md) and serves it until\n"
+       "Ctrl-C. If a running 'gaitforge local' holds the database, prints that one's URL.",
+       {"db", "dashboard"}, "gaitforge dashboard --dashboard 127.0.0.1:8080"},
       {"cancel", "ID", "stop a study; its results stay", "Stops a study; its results stay.",
        Connection({"json"}), "gaitforge cancel analytic-ga-3f09a1"},
       {"health", "", "whether --coordinator serves (grpc.health.v1; no token needed)",

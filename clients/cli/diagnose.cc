@@ -65,6 +65,9 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (!conn) return code;
   std::vector<pid_t> pids;
   if (g.coordinator.empty()) pids = StartLocalWorkers(g, conn->target(), workers, threads);
+  // Its calibration studies, live (docs/dashboard.md).
+  if (!g.json && !conn->dashboard_url().empty())
+    std::cerr << "dashboard: " << conn->dashboard_url() << "\n";
   struct Stopper {
     std::vector<pid_t>& p;
     ~Stopper() { for (pid_t x : p) Stop(x, 10); }

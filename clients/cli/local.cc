@@ -61,6 +61,8 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   if (!g.json)
     std::cerr << "study " << id << ": " << workers << " local worker(s) x " << threads
               << " thread(s); database " << g.db << "; logs in " << logs << "/\n";
+  if (!g.json && !conn.dashboard_url().empty())
+    std::cerr << "dashboard: " << conn.dashboard_url() << "#/study/" << id << "\n";
   const int code = WatchUntilDone(conn.study(), id, g, 30 * 24 * 3600.0);
   // Workers drain their batch to the coordinator; without one there is nothing to drain.
   for (pid_t p : pids) Stop(p, code == kUnavailable ? 1 : 10);

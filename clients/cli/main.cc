@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
   flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
   flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
+  std::string dashboard = "127.0.0.1:0";
+  flags.Add("dashboard", &dashboard,
+            "local/resume/diagnose/dashboard: serve the web dashboard at HOST:PORT (port 0: any "
+            "free one; off: none)");
   bool version = false;
   flags.AddBool("version", &version, "print the build's identity (what workers report) and exit");
   if (auto s = flags.Parse(argc, argv); !s.ok()) {
@@ -85,6 +89,10 @@ int main(int argc, char** argv) {
   g.token = *token;
   cli::SetCallToken(g.coordinator.empty() ? "" : g.token);
   const std::string cmd = pos[0];
+  // Only the commands that run studies (and `dashboard`) serve the dashboard.
+  if (dashboard != "off" &&
+      (cmd == "local" || cmd == "resume" || cmd == "diagnose" || cmd == "dashboard"))
+    g.dashboard = dashboard;
   const std::vector<std::string> args(pos.begin() + 1, pos.end());
   if (cmd == "local") return cli::CmdLocal(g, args, workers, threads, out_dir);
   if (cmd == "submit") return cli::CmdSubmit(g, args);
@@ -112,6 +120,7 @@ int main(int argc, char** argv) {
   if (cmd == "trajectory")
     return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);
   if (cmd == "health") return cli::CmdHealth(g, args);
+  if (cmd == "dashboard") return cli::CmdDashboard(g, args);
   std::cerr << "gaitforge: unknown command '" << cmd << "'\n" << cli::CommandList();
   return cli::kUsage;
 }

@@ -79,6 +79,7 @@ std::optional<DbHolder> FindDbHolder(const std::string& db) {
   DbHolder h;
   if (!(lock >> h.pid) || h.pid <= 0) return std::nullopt;
   lock >> h.address;
+  h.dashboard = DashboardLine(lock);
   // Alive (not a zombie nobody reaped), and a coordinator (a recycled pid would be another
   // program): /proc/PID/stat is "PID (COMM) STATE ...", COMM cut to 15 characters.
   std::ifstream stat("/proc/" + std::to_string(h.pid) + "/stat");
@@ -95,8 +96,16 @@ std::optional<DbHolder> FindDbHolder(const std::string& db) {
   return h;
 }
 
+std::string DashboardLine(std::istream& in) {
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("dashboard ", 0) == 0) return line.substr(10);
+  return "";
+}
+
 pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
-                       std::string* target, std::string* error) {
+                       std::string* target, std::string* error, const std::string& dashboard,
+                       std::string* dashboard_url) {
   std::error_code ec;
   std::filesystem::create_directories(log_dir, ec);
   const std::string port_file =
@@ -106,6 +115,7 @@ pid_t StartCoordinator(const std::string& db, bool read_only, const std::string&
   std::vector<std::string> argv = {SiblingBinary("gaitforge-coordinator"), "--listen",
                                    "127.0.0.1:0", "--db", db, "--port-file", port_file};
   if (read_only) argv.push_back("--read-only");
+  if (!dashboard.empty()) argv.insert(argv.end(), {"--dashboard-listen", dashboard});
   const std::string log = (std::filesystem::path(log_dir) / "coordinator.log").string();
   // The log is shared with earlier (and perhaps still stopping) coordinators on the same
   // directory: the words of this one start here.
@@ -118,6 +128,10 @@ pid_t StartCoordinator(const std::string& db, bool read_only, const std::string&
     return -1;
   }
   const int port = WaitForPortFile(port_file, pid, 30);
+  if (port > 0 && dashboard_url) {
+    std::ifstream in(port_file);
+    *dashboard_url = DashboardLine(in);
+  }
   std::filesystem::remove(port_file, ec);
   if (port < 0) {
     Stop(pid, 1);

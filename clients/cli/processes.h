@@ -23,11 +23,17 @@ int WaitForPortFile(const std::string& path, pid_t pid, double timeout_s);
 // address once it serves); nullopt if that process is gone (killed, or stopped).
 struct DbHolder {
   pid_t pid = 0;
-  std::string address;  // empty while it starts
+  std::string address;    // empty while it starts
+  std::string dashboard;  // its dashboard's URL ("dashboard URL" line), empty if none
 };
 std::optional<DbHolder> FindDbHolder(const std::string& db);
 // Starts a coordinator on db, listening on loopback; returns its pid and "127.0.0.1:port".
+// With `dashboard` (HOST:PORT) it also serves the web dashboard there; *dashboard_url gets
+// its URL.
 pid_t StartCoordinator(const std::string& db, bool read_only, const std::string& log_dir,
-                       std::string* target, std::string* error);
+                       std::string* target, std::string* error,
+                       const std::string& dashboard = "", std::string* dashboard_url = nullptr);
+// The "dashboard URL" line of a coordinator's --port-file or lock file ("" if none).
+std::string DashboardLine(std::istream& in);
 
 }  // namespace gaitforge::cli

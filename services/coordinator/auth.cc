@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
+#include "services/coordinator/grpc_status.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -82,15 +83,22 @@ grpc::Status Auth::Check(const grpc::ServerContext* ctx, Role needed) const {
   if (tokens_.empty()) return grpc::Status::OK;
   const auto& md = ctx->client_metadata();
   auto it = md.find("authorization");
-  if (it == md.end())
-    return grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
-                        "missing 'authorization: Bearer TOKEN' metadata");
-  const std::string value(it->second.data(), it->second.size());
+  std::string value;
+  if (it != md.end()) value.assign(it->second.data(), it->second.size());
+  return ToGrpc(CheckBearer(it == md.end() ? nullptr : &value, needed, "metadata"));
+}
+
+absl::Status Auth::CheckBearer(const std::string* authorization, Role needed,
+                               const char* carrier) const {
+  if (tokens_.empty()) return absl::OkStatus();
+  if (authorization == nullptr)
+    return absl::UnauthenticatedError(
+        absl::StrCat("missing 'authorization: Bearer TOKEN' ", carrier));
   const std::string prefix = "Bearer ";
-  if (value.rfind(prefix, 0) != 0)
-    return grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
-                        "authorization metadata must be 'Bearer TOKEN'");
-  const std::string token = value.substr(prefix.size());
+  if (authorization->rfind(prefix, 0) != 0)
+    return absl::UnauthenticatedError(
+        absl::StrCat("authorization ", carrier, " must be 'Bearer TOKEN'"));
+  const std::string token = authorization->substr(prefix.size());
   bool known = false;
   Role role = Role::kClient;
   for (const auto& [r, t] : tokens_) {
@@ -100,11 +108,11 @@ grpc::Status Auth::Check(const grpc::ServerContext* ctx, Role needed) const {
       role = r;
     }
   }
-  if (!known) return grpc::Status(grpc::StatusCode::UNAUTHENTICATED, "unknown token");
-  if (role == Role::kAdmin || role == needed) return grpc::Status::OK;
-  return grpc::Status(grpc::StatusCode::PERMISSION_DENIED,
-                      absl::StrCat("a ", RoleName(role), " token cannot call this (needs the ",
-                                   RoleName(needed), " or admin role)"));
+  if (!known) return absl::UnauthenticatedError("unknown token");
+  if (role == Role::kAdmin || role == needed) return absl::OkStatus();
+  return absl::PermissionDeniedError(
+      absl::StrCat("a ", RoleName(role), " token cannot call this (needs the ", RoleName(needed),
+                   " or admin role)"));
 }
 
 }  // namespace gaitforge::coordinator

@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 
+#include "absl/status/status.h"
 #include "absl/status/statusor.h"
 
 namespace gaitforge::coordinator {
@@ -26,6 +27,11 @@ class Auth {
   grpc::Status Check(const grpc::ServerContext* ctx, Role needed) const;
   // OK if the call may act as either role.
   grpc::Status CheckEither(const grpc::ServerContext* ctx, Role a, Role b) const;
+  // The same rule for any carrier of the "Bearer TOKEN" value (gRPC metadata, an HTTP
+  // header): `authorization` is the value, nullptr when absent; `carrier` names it in
+  // messages ("metadata", "header"). UNAUTHENTICATED or PERMISSION_DENIED as Check.
+  absl::Status CheckBearer(const std::string* authorization, Role needed,
+                           const char* carrier) const;
   void Add(Role role, std::string token) { tokens_[role] = std::move(token); }
 
  private:

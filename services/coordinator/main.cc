@@ -1,6 +1,7 @@
 // gaitforge-coordinator: holds studies (engine + job queue + SQLite store) and serves the
 // StudyService, the WorkerService, the RecordingService, the DiagnosisService and
-// grpc.health.v1 on one port.
+// grpc.health.v1 on one port, and optionally the web dashboard (--dashboard-listen,
+// docs/dashboard.md) and Prometheus metrics on their own.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <fcntl.h>
@@ -27,6 +28,7 @@
 #include "services/core/db_path.h"
 #include "services/core/flags.h"
 #include "services/core/logging.h"
+#include "services/dashboard/http_server.h"
 
 using namespace gaitforge;
 
@@ -53,7 +55,7 @@ int main(int argc, char** argv) {
   int max_recording_mb = 64;
   bool read_only = false;
   bool insecure = false;
-  std::string listen_interface, address_file, tokens_file, metrics_listen;
+  std::string listen_interface, address_file, tokens_file, metrics_listen, dashboard_listen;
   std::string log_format = "text";
   coordinator::TlsFiles tls;
   core::Flags flags("gaitforge-coordinator [flags]",
@@ -82,6 +84,9 @@ int main(int argc, char** argv) {
             "GAITFORGE_{CLIENT,WORKER,ADMIN}_TOKEN; none: no authentication");
   flags.Add("metrics-listen", &metrics_listen,
             "serve Prometheus metrics at http://HOST:PORT/metrics (empty: off)");
+  flags.Add("dashboard-listen", &dashboard_listen,
+            "serve the read-only web dashboard at http://HOST:PORT/ (port 0: any free one; "
+            "empty: off; docs/dashboard.md)");
   flags.Add("log-format", &log_format, "text or json (one JSON object per line)");
   flags.Add("max-message-mb", &max_message_mb, "largest gRPC message accepted or sent, MiB (1..1024)");
   flags.Add("max-recording-mb", &max_recording_mb, "largest recording accepted, MiB (1..1024)");
@@ -173,6 +178,18 @@ int main(int argc, char** argv) {
   coordinator::Diagnoses diagnoses(coord, options.db_path + ".diagnoses", read_only);
   if (auto s = diagnoses.Recover(); !s.ok()) return Fail(std::string(s.message()));
 
+  // The web dashboard: the same coordinator's reads, the same tokens.
+  dashboard::DashboardApi dashboard_api(coord, *auth);
+  std::unique_ptr<dashboard::HttpServer> dashboard;
+  if (!dashboard_listen.empty()) {
+    auto d = dashboard::HttpServer::Start(dashboard_listen, dashboard_api);
+    if (!d.ok()) return Fail("--dashboard-listen: " + std::string(d.status().message()));
+    dashboard = std::move(*d);
+    if (auth->enabled() && !coordinator::IsLoopback(dashboard_listen))
+      spdlog::warn("the dashboard's tokens travel in plaintext HTTP on {}", dashboard_listen);
+    spdlog::info("dashboard at {}", dashboard->url());
+  }
+
   coordinator::StudyServiceImpl study_service(coord, *auth);
   coordinator::WorkerServiceImpl worker_service(coord, *auth);
   coordinator::RecordingServiceImpl recording_service(coord, *auth);
@@ -207,8 +224,10 @@ int main(int argc, char** argv) {
   if (lock_fd >= 0) {
     // The lock file says who holds the database and where: the CLI's embedded commands
     // (cancel, resume, watch, ...) talk to this coordinator instead of failing on the lock.
-    const std::string holder =
-        std::to_string(getpid()) + "\n" + coordinator::DialAddress(*address, port) + "\n";
+    // A third line names the dashboard's URL when it serves one.
+    const std::string holder = std::to_string(getpid()) + "\n" +
+                               coordinator::DialAddress(*address, port) + "\n" +
+                               (dashboard ? "dashboard " + dashboard->url() + "\n" : "");
     (void)!ftruncate(lock_fd, 0);
     (void)!pwrite(lock_fd, holder.data(), holder.size(), 0);
   }
@@ -227,6 +246,8 @@ int main(int argc, char** argv) {
     out << port << "\n";
     // Second line: the metrics port (useful with --metrics-listen HOST:0).
     if (exposer && !exposer->GetListeningPorts().empty()) out << exposer->GetListeningPorts()[0] << "\n";
+    // Then the dashboard's URL, as "dashboard URL" (the CLI prints it).
+    if (dashboard) out << "dashboard " << dashboard->url() << "\n";
     out.close();
     std::filesystem::rename(tmp, port_file, ec);
     if (ec) return Fail("cannot write --port-file " + port_file + ": " + ec.message());
@@ -244,6 +265,7 @@ int main(int argc, char** argv) {
   if (!address_file.empty()) std::filesystem::remove(address_file, ec);
   spdlog::info("signal {}: shutting down", sig);
   diagnoses.Shutdown();  // they stay running in the database; the next start resumes them
+  dashboard.reset();  // no request in flight after this
   coord.Shutdown();  // wakes long polls and watchers
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   stop = true;

@@ -62,7 +62,12 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
                   "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)},
        CaterpillarGaitSpace(), static_cast<int>(CaterpillarGaitSpace().size()),
        // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
-       {{"set", {}}}},
+       {{"set", {}}},
+       false,
+       "",
+       {},
+       false,
+       "caterpillar"},
       {"caterpillar.calibration",
        "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
        "-(mean error over the recordings, weighted by the weights option when given) between "

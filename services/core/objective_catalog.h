@@ -45,6 +45,9 @@ struct ObjectiveInfo {
   // Robot-agnostic: objective.robot names the robot (a built-in, or a descriptor the spec
   // carries), whose controller's genes are the space and whose parameters `set` may change.
   bool uses_robot = false;
+  // The built-in robot whose controller the genes drive, when the objective is bound to
+  // one (caterpillar.distance: caterpillar); empty otherwise (uses_robot: objective.robot).
+  std::string gait_robot;
 };
 
 // A robot's gene space: its controller's genes (robots/controllers.h).
