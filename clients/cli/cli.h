@@ -157,6 +157,8 @@ int AwaitDiagnosis(v1::DiagnosisService::Stub& stub, const std::string& id,
 int CmdDiagnosis(const GlobalOptions& g, const std::vector<std::string>& args,
                  const std::string& out_root);
 int CmdDiagnoses(const GlobalOptions& g, const std::vector<std::string>& args);
+// `cancel ID` for a stored diagnosis (the fits it started are cancelled with it).
+int CancelDiagnosis(Connection& conn, const std::string& id, const GlobalOptions& g);
 int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
                 int threads, const std::string& out_dir);
 // Starts local worker processes against target (logs next to the database).

@@ -292,6 +292,8 @@ int CmdCancel(const GlobalOptions& g, const std::vector<std::string>& args) {
   req.set_study_id(args[0]);
   v1::StudySummary resp;
   grpc::Status s = conn->study().CancelStudy(&ctx, req, &resp);
+  // Not a study: perhaps a stored diagnosis (diagnosis.md, "Stored diagnoses").
+  if (s.error_code() == grpc::StatusCode::NOT_FOUND) return CancelDiagnosis(*conn, args[0], g);
   if (!s.ok()) return ReportRpcError(s, "cancel " + args[0]);
   if (g.json) std::cout << ToJson(resp) << "\n";
   else std::cout << resp.study_id() << " " << StateName(resp.state()) << "\n";

@@ -107,6 +107,23 @@ int CmdDiagnosis(const GlobalOptions& g, const std::vector<std::string>& args,
   return AwaitDiagnosis(*stub, args[0], out_root, g, !g.coordinator.empty() || conn->shared());
 }
 
+int CancelDiagnosis(Connection& conn, const std::string& id, const GlobalOptions& g) {
+  auto stub = v1::DiagnosisService::NewStub(conn.channel());
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::CancelDiagnosisRequest req;
+  req.set_diagnosis_id(id);
+  v1::DiagnosisSummary resp;
+  if (auto s = stub->CancelDiagnosis(&ctx, req, &resp); !s.ok()) {
+    if (s.error_code() == grpc::StatusCode::NOT_FOUND)
+      s = grpc::Status(s.error_code(), "no study or diagnosis with id '" + id + "'");
+    return ReportRpcError(s, "cancel " + id);
+  }
+  if (g.json) std::cout << ToJson(resp) << "\n";
+  else std::cout << id << " cancelling (a diagnosis stops at its next check)\n";
+  return kOk;
+}
+
 int CmdDiagnoses(const GlobalOptions& g, const std::vector<std::string>& args) {
   if (!args.empty()) {
     std::cerr << "gaitforge: usage: gaitforge diagnoses [--json]\n";

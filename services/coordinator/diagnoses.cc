@@ -180,11 +180,16 @@ void Diagnoses::Execute(Run& run, storage::DiagnosisRecord record) {
     };
     r.note = [&run](const std::string& line) { spdlog::info("diagnosis {}: {}", run.id, line); };
     r.stopped = [this, &run] { return run.cancel.load() || stopping_.load(); };
+    r.fit_created = [&run](const std::string& id) {
+      std::lock_guard<std::mutex> l(run.mu);
+      run.fits.push_back(id);
+    };
     CoordinatorStudies studies(c_);
     report = diagnosis::Diagnose(spec, in, studies, r);
   }
   run.done = true;
   if (stopping_ && !run.cancel) return;  // still running in the database: Recover resumes it
+  if (run.cancel) CancelFits(run);
   if (report.ok()) {
     record.state = "completed";
     record.report = *report;
@@ -203,6 +208,16 @@ void Diagnoses::Execute(Run& run, storage::DiagnosisRecord record) {
                   std::string(s.message()));
   spdlog::info("diagnosis {} {}{}", record.diagnosis_id, record.state,
                record.error.empty() ? "" : ": " + record.error);
+}
+
+// A cancelled diagnosis's fits that still run are cancelled too (those it reused from
+// another diagnosis are left alone).
+void Diagnoses::CancelFits(Run& run) {
+  std::lock_guard<std::mutex> l(run.mu);
+  for (const auto& id : run.fits) {
+    auto s = c_.GetStudy(id);
+    if (s.ok() && s->state() == v1::STUDY_STATE_RUNNING) (void)c_.CancelStudy(id);
+  }
 }
 
 v1::DiagnosisSummary Diagnoses::Summarize(const storage::DiagnosisRecord& r) {

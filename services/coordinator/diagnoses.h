@@ -47,10 +47,12 @@ class Diagnoses {
     std::mutex mu;
     std::string stage, progress;  // GUARDED_BY(mu)
     double fraction = 0;          // GUARDED_BY(mu)
+    std::vector<std::string> fits;  // studies it created; GUARDED_BY(mu)
     std::thread thread;
   };
   void Start(storage::DiagnosisRecord record);
   void Execute(Run& run, storage::DiagnosisRecord record);
+  void CancelFits(Run& run);
   v1::DiagnosisSummary Summarize(const storage::DiagnosisRecord& r);
   absl::Status Save(storage::DiagnosisRecord r);
 

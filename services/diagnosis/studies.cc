@@ -84,6 +84,7 @@ absl::Status RunFits(Studies& studies, const v1::DiagnosisSpec& d, std::vector<C
     if (!id.ok())
       return absl::Status(id.status().code(), absl::StrCat(c->label, ": ", id.status().message()));
     c->study_id = *id;
+    r.fit_created(*id);
   }
   if (reused)
     r.note(absl::StrFormat("%s: %d of %d fits reused from the database (same spec and seed)",

@@ -38,6 +38,8 @@ struct Reporter {
   std::function<void(const Progress&)> progress = [](const Progress&) {};
   std::function<void(const std::string&)> note = [](const std::string&) {};
   std::function<bool()> stopped = [] { return false; };
+  // A fit's study was created for this diagnosis (not reused): its id.
+  std::function<void(const std::string&)> fit_created = [](const std::string&) {};
 };
 
 // Creates (or reuses: a completed or running study with the same spec, seed included) the

@@ -71,5 +71,49 @@ TEST(StoredDiagnosis, OutlivesItsClientAndIsListedAndQueried) {
   EXPECT_EQ(cluster.Cli("diagnosis nothing-here").exit_code, 3);
 }
 
+// `cancel ID` stops a running diagnosis and the fits it started; its client exits 1.
+TEST(StoredDiagnosis, CancelStopsItAndItsFits) {
+  TempDir dir;
+  LocalCluster cluster(dir.path(), dir.File("d.db"));
+  ASSERT_TRUE(cluster.ok());
+  cluster.StartWorkers(1);
+  std::string spec =
+      Spec(std::string(GAITFORGE_SOURCE_DIR) + "/tests/diagnosis/cases/tether-hose/");
+  spec = std::regex_replace(spec, std::regex("full_evaluations: 24"), "full_evaluations: 4000");
+  WriteFile(dir.File("d.yaml"), spec);
+  // The whole background subshell away from RunCommand's pipe, which it would hold open.
+  RunCommand("(cd " + dir.path() + " && { " + Bin("gaitforge") + " --coordinator " +
+             cluster.target() +
+             " diagnose d.yaml > c.out 2> c.err; echo $? > c.code; }) > /dev/null 2>&1 &");
+  std::string id;
+  bool fitting = false;
+  for (int i = 0; i < 600 && !fitting; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::smatch m;
+    const std::string listed = cluster.Cli("diagnoses --json").out;
+    if (std::regex_search(listed, m, std::regex(R"re("diagnosis_id":"([^"]+)")re"))) id = m[1];
+    fitting = cluster.Cli("list --json").out.find("STUDY_STATE_RUNNING") != std::string::npos;
+  }
+  ASSERT_TRUE(fitting && !id.empty()) << ReadFile(dir.File("c.err"));
+  auto c = cluster.Cli("cancel " + id);
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  std::string state;
+  for (int i = 0; i < 300 && state.find("CANCELLED") == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    state = cluster.Cli("diagnoses --json").out;
+  }
+  EXPECT_NE(state.find("DIAGNOSIS_STATE_CANCELLED"), std::string::npos) << state;
+  EXPECT_EQ(cluster.Cli("list --json").out.find("STUDY_STATE_RUNNING"), std::string::npos);
+  for (int i = 0; i < 100 && ReadFile(dir.File("c.code")).empty(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(ReadFile(dir.File("c.code")), "1\n") << ReadFile(dir.File("c.err"));
+  EXPECT_NE(ReadFile(dir.File("c.err")).find("cancelled"), std::string::npos);
+  // An id that is neither a study nor a diagnosis.
+  auto none = cluster.Cli("cancel nothing-here");
+  EXPECT_EQ(none.exit_code, 3);
+  EXPECT_NE(none.err.find("no study or diagnosis with id 'nothing-here'"), std::string::npos)
+      << none.err;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing
