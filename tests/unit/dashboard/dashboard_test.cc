@@ -121,11 +121,8 @@ TEST_F(DashboardTest, IsReadOnly) {
 TEST_F(DashboardTest, AnUnchangedAnswerIsA304WithoutBody) {
   HttpResponse first = Get("/api/studies/" + id_ + "/history");
   ASSERT_FALSE(first.etag.empty());
-  HttpRequest again;
-  again.method = "GET";
-  again.path = "/api/studies/" + id_ + "/history";
-  again.if_none_match = first.etag;
-  HttpResponse second = DashboardApi(*coord_, auth_).Handle(again);
+  HttpResponse second =
+      GetFrom(DashboardApi(*coord_, auth_), "/api/studies/" + id_ + "/history", "", {}, first.etag);
   EXPECT_EQ(second.status, 304);
   EXPECT_TRUE(second.body.empty());
 }
