@@ -110,8 +110,9 @@ std::vector<CommandHelp> Build() {
        "gaitforge resume analytic-ga-3f09a1"},
       {"dashboard", "", "the web dashboard of the local database, until Ctrl-C",
        "Prints the URL of a read-only web dashboard of --db (studies, live fitness curves,\n"
-       "hall of fame with gait diagrams, history; docs/dashboard.md) and serves it until\n"
-       "Ctrl-C. If a running 'gaitforge local' holds the database, prints that one's URL.",
+       "hall of fame with gait diagrams, history; diagnoses with their verdict, figures and\n"
+       "candidates; docs/dashboard.md) and serves it until Ctrl-C. If a running\n"
+       "'gaitforge local' holds the database, prints that one's URL.",
        {"db", "dashboard"}, "gaitforge dashboard --dashboard 127.0.0.1:8080"},
       {"cancel", "ID", "stop a study; its results stay", "Stops a study; its results stay.",
        Connection({"json"}), "gaitforge cancel analytic-ga-3f09a1"},

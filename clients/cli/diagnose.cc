@@ -65,9 +65,6 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (!conn) return code;
   std::vector<pid_t> pids;
   if (g.coordinator.empty()) pids = StartLocalWorkers(g, conn->target(), workers, threads);
-  // Its calibration studies, live (docs/dashboard.md).
-  if (!g.json && !conn->dashboard_url().empty())
-    std::cerr << "dashboard: " << conn->dashboard_url() << "\n";
   struct Stopper {
     std::vector<pid_t>& p;
     ~Stopper() { for (pid_t x : p) Stop(x, 10); }
@@ -84,6 +81,10 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (!g.json)
     std::cerr << "diagnosis " << created.diagnosis_id() << " (the coordinator runs it; "
               << "gaitforge diagnosis " << created.diagnosis_id() << " shows it)\n";
+  // The diagnosis, live, and its fits' studies (docs/dashboard.md).
+  if (!g.json && !conn->dashboard_url().empty())
+    std::cerr << "dashboard: " << conn->dashboard_url() << "#/diagnosis/" << created.diagnosis_id()
+              << "\n";
   return AwaitDiagnosis(*stub, created.diagnosis_id(), out_root, g, true);
 }
 

@@ -178,8 +178,8 @@ int main(int argc, char** argv) {
   coordinator::Diagnoses diagnoses(coord, options.db_path + ".diagnoses", read_only);
   if (auto s = diagnoses.Recover(); !s.ok()) return Fail(std::string(s.message()));
 
-  // The web dashboard: the same coordinator's reads, the same tokens.
-  dashboard::DashboardApi dashboard_api(coord, *auth);
+  // The web dashboard: the same coordinator's reads (studies, diagnoses), the same tokens.
+  dashboard::DashboardApi dashboard_api(coord, *auth, &diagnoses);
   std::unique_ptr<dashboard::HttpServer> dashboard;
   if (!dashboard_listen.empty()) {
     auto d = dashboard::HttpServer::Start(dashboard_listen, dashboard_api);

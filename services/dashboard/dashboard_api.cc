@@ -1,11 +1,10 @@
 #include "services/dashboard/dashboard_api.h"
 
 #include <charconv>
-#include <cstdio>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
-#include "services/dashboard/json_text.h"
+#include "services/dashboard/diagnosis_api.h"
 #include "services/dashboard/study_robot.h"
 #include "services/dashboard/web_assets.h"
 #include "services/rpc/proto_json.h"
@@ -15,39 +14,10 @@ namespace {
 
 using rpc::ToJson;
 
-int HttpStatus(absl::StatusCode code) {
-  switch (code) {
-    case absl::StatusCode::kInvalidArgument: return 400;
-    case absl::StatusCode::kUnauthenticated: return 401;
-    case absl::StatusCode::kPermissionDenied: return 403;
-    case absl::StatusCode::kNotFound:
-    case absl::StatusCode::kOutOfRange: return 404;
-    case absl::StatusCode::kFailedPrecondition: return 409;
-    case absl::StatusCode::kUnavailable: return 503;
-    default: return 500;
-  }
-}
-
-// FNV-1a: an answer's identity for ETag/If-None-Match (not a security property).
-std::string BodyTag(const std::string& body) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char ch : body) h = (h ^ ch) * 1099511628211ull;
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "\"%016llx\"", static_cast<unsigned long long>(h));
-  return buf;
-}
-
-HttpResponse Json(std::string body) {
-  HttpResponse r;
-  r.etag = BodyTag(body);
-  r.body = std::move(body);
-  return r;
-}
-
 template <typename T>
 HttpResponse Reply(const absl::StatusOr<T>& r) {
   if (!r.ok()) return ErrorResponse(r.status());
-  return Json(ToJson(*r));
+  return JsonResponse(ToJson(*r));
 }
 
 // The query's whole number `key`, or `fallback` when absent.
@@ -72,7 +42,7 @@ HttpResponse History(coordinator::Coordinator& c, const std::string& id, const H
   v1::GetHistoryResponse out;
   for (const auto& g : h->generations())
     if (g.generation() >= *since) *out.add_generations() = g;
-  return Json(ToJson(out));
+  return JsonResponse(ToJson(out));
 }
 
 HttpResponse HallOfFame(coordinator::Coordinator& c, const std::string& id,
@@ -109,15 +79,6 @@ HttpResponse StaticFile(const HttpRequest& req) {
 
 }  // namespace
 
-HttpResponse ErrorResponse(const absl::Status& status) {
-  HttpResponse r;
-  r.status = HttpStatus(status.code());
-  r.body = JsonObject({{"error", JsonString(std::string(status.message()))},
-                       {"code", JsonString(absl::StatusCodeToString(status.code()))}});
-  if (r.status == 401) r.headers["WWW-Authenticate"] = "Bearer realm=\"gaitforge\"";
-  return r;
-}
-
 HttpResponse DashboardApi::Handle(const HttpRequest& req) const {
   HttpResponse r;
   if (req.method != "GET" && req.method != "HEAD") {
@@ -148,10 +109,11 @@ HttpResponse DashboardApi::Api(const HttpRequest& req) const {
     if (!list.ok()) return ErrorResponse(list.status());
     v1::ListStudiesResponse out;
     for (auto& s : *list) *out.add_studies() = std::move(s);
-    return Json(ToJson(out));
+    return JsonResponse(ToJson(out));
   }
   if (parts.size() >= 3 && parts.size() <= 4 && parts[1] == "studies")
     return Study(parts[2], parts.size() == 4 ? parts[3] : "", req);
+  if (parts.size() >= 2 && parts[1] == "diagnoses") return DiagnosisApi(diagnoses_, parts, req);
   return ErrorResponse(absl::NotFoundError(
       absl::StrCat("no endpoint GET ", req.path, " (docs/dashboard.md lists them)")));
 }
@@ -162,7 +124,7 @@ HttpResponse DashboardApi::Study(const std::string& id, const std::string& what,
   if (what == "progress") {
     auto p = c_.Progress(id);
     if (!p.ok()) return ErrorResponse(p.status());
-    return Json(ToJson(p->first));
+    return JsonResponse(ToJson(p->first));
   }
   if (what == "history") return History(c_, id, req);
   if (what == "hall-of-fame") return HallOfFame(c_, id, req);
@@ -170,7 +132,7 @@ HttpResponse DashboardApi::Study(const std::string& id, const std::string& what,
   if (what == "robot") {
     auto s = c_.GetStudy(id);
     if (!s.ok()) return ErrorResponse(s.status());
-    return Json(StudyRobotJson(s->spec()));
+    return JsonResponse(StudyRobotJson(s->spec()));
   }
   return ErrorResponse(absl::NotFoundError(absl::StrCat(
       "no endpoint GET ", req.path,

@@ -1,37 +1,25 @@
 #pragma once
 // The dashboard's read-only HTTP API (docs/dashboard.md): GET /api/... answered from the
 // Coordinator's own queries, the ones the gRPC StudyService serves, as the protobuf
-// messages' JSON (field names as in the .proto, like `gaitforge --json`), and the page's
-// static files. No sockets here (http_server.h carries the bytes), so tests can call it
+// messages' JSON (field names as in the .proto, like `gaitforge --json`), the stored
+// diagnoses (diagnosis_api.h), and the page's static files. No sockets here (http_server.h carries the bytes), so tests can call it
 // directly.
-#include <map>
 #include <string>
 
 #include "services/coordinator/auth.h"
 #include "services/coordinator/coordinator.h"
+#include "services/coordinator/diagnoses.h"
+#include "services/dashboard/http_answer.h"
 
 namespace gaitforge::dashboard {
 
-struct HttpRequest {
-  std::string method;  // "GET"
-  std::string path;    // decoded, without the query: "/api/studies/ab12"
-  std::map<std::string, std::string> query;  // decoded ?key=value pairs
-  const std::string* authorization = nullptr;  // the Authorization header, if sent
-  std::string if_none_match;                   // the If-None-Match header, if sent
-};
-
-struct HttpResponse {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-  std::string etag;  // quoted; empty: none
-  std::map<std::string, std::string> headers;  // extra headers (WWW-Authenticate)
-};
-
 class DashboardApi {
  public:
-  DashboardApi(coordinator::Coordinator& c, const coordinator::Auth& auth)
-      : c_(c), auth_(auth) {}
+  // `diagnoses`: the coordinator's stored diagnoses (/api/diagnoses); none: those endpoints
+  // say so with 404.
+  DashboardApi(coordinator::Coordinator& c, const coordinator::Auth& auth,
+               coordinator::Diagnoses* diagnoses = nullptr)
+      : c_(c), auth_(auth), diagnoses_(diagnoses) {}
   // Any request: an /api/ endpoint (client token required when tokens are configured), or
   // a static file. An unchanged answer to a request with If-None-Match is 304, no body.
   HttpResponse Handle(const HttpRequest& request) const;
@@ -43,9 +31,7 @@ class DashboardApi {
 
   coordinator::Coordinator& c_;
   const coordinator::Auth& auth_;
+  coordinator::Diagnoses* diagnoses_;
 };
-
-// {"error": MESSAGE, "code": "NOT_FOUND"} with the HTTP status of the absl code.
-HttpResponse ErrorResponse(const absl::Status& status);
 
 }  // namespace gaitforge::dashboard

@@ -69,9 +69,12 @@ void WriteResponse(mg_connection* conn, const HttpResponse& r, bool head) {
                   "X-Content-Type-Options: nosniff\r\n"
                   "X-Frame-Options: DENY\r\n"
                   "Referrer-Policy: no-referrer\r\n"
-                  "Content-Security-Policy: default-src 'self'; style-src 'self' "
-                  "'unsafe-inline'; img-src 'self' data:\r\n"
                   "Connection: close\r\n");
+  // The page's own files only; blob: for the figures it fetches with the token (<img>).
+  if (!r.headers.count("Content-Security-Policy"))
+    absl::StrAppend(&h,
+                    "Content-Security-Policy: default-src 'self'; style-src 'self' "
+                    "'unsafe-inline'; img-src 'self' data: blob:\r\n");
   for (const auto& [k, v] : r.headers) absl::StrAppend(&h, k, ": ", v, "\r\n");
   h += "\r\n";
   mg_write(conn, h.data(), h.size());

@@ -5,7 +5,9 @@ caterpillar study, and against a coordinator that requires tokens.
 
 Checks the study list, the study page's facts, history table, hall of fame with gait
 diagrams drawn from the robot's controller, that the fitness curve gains points while the
-study runs, a generation's members, the banner for an unknown study, and the token rules
+study runs, a generation's members, the banner for an unknown study; a small real
+`gaitforge diagnose` live (its row, stage and progress), then stored (`gaitforge
+dashboard`): its verdict, figures, candidates and fits' study links; and the token rules
 (401/403/200 over HTTP; the page's token form and ?token=). Saves screenshots, and prints
 the time from starting `gaitforge local` to the curve's first point and the page weight of
 a first load.
@@ -40,6 +42,20 @@ objective:
 ga:
   elite: 2
 """
+# A small real diagnosis (as tests/e2e/stored_diagnosis_test.cc): the tether-hose case, two
+# candidates, short fits; about 20 s on 2 cores.
+DIAGNOSIS_SPEC = """name: dashboard-diagnosis
+seed: 3
+training: [{cases}train/gait-a.csv, {cases}train/gait-b.csv]
+held_out: [{cases}held_out/gait-c.csv]
+candidates: [tether.constant, ground.slope]
+screening_evaluations: 16
+full_evaluations: 24
+top: 2
+try_pairs: false
+"""
+CASES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "diagnosis", "cases",
+                     "tether-hose") + "/"
 CLIENT_TOKEN = "client-token-0123456789abcdef"
 WORKER_TOKEN = "worker-token-0123456789abcdef"
 
@@ -115,26 +131,31 @@ def page_weight(driver):
               files: 1 + stat.length};""")
 
 
-def start_local(bin_dir, work):
-    spec = os.path.join(work, "spec.yaml")
+def start_cli(bin_dir, work, command, text, page):
+    """`gaitforge COMMAND TEXT --workers 2` in `work` (the default database,
+    runs/gaitforge.db, there) until it prints `dashboard: URL#/PAGE/ID`: (process, URL, ID)."""
+    spec = os.path.join(work, command + ".yaml")
     with open(spec, "w") as f:
-        f.write(SPEC)
-    log_path = os.path.join(work, "local.log")
-    log = open(log_path, "w")
-    started = time.monotonic()
+        f.write(text)
+    log_path = os.path.join(work, command + ".log")
     proc = subprocess.Popen(
-        # The default database, runs/gaitforge.db, in the work folder.
-        [os.path.join(bin_dir, "gaitforge"), "local", spec, "--workers", "2", "--out",
+        [os.path.join(bin_dir, "gaitforge"), command, spec, "--workers", "2", "--out",
          os.path.join(work, "plots")],
-        stdout=log, stderr=subprocess.STDOUT, cwd=work)
+        stdout=open(log_path, "w"), stderr=subprocess.STDOUT, cwd=work)
 
     def url():
         if proc.poll() is not None:
-            raise AssertionError(f"gaitforge local exited {proc.returncode}: {open(log_path).read()}")
-        m = re.search(r"dashboard: (http://\S+/)#/study/(\S+)", open(log_path).read())
+            raise AssertionError(f"gaitforge {command} exited {proc.returncode}: {open(log_path).read()}")
+        m = re.search(r"dashboard: (http://\S+/)#/" + page + r"/(\S+)", open(log_path).read())
         return m and (m.group(1), m.group(2))
-    base, study = wait_for(url, "gaitforge local to print the dashboard's URL")
-    check(True, f"gaitforge local prints the dashboard's URL {base}")
+    base, ident = wait_for(url, f"gaitforge {command} to print the dashboard's URL")
+    check(True, f"gaitforge {command} prints the dashboard's URL {base}#/{page}/{ident}")
+    return proc, base, ident
+
+
+def start_local(bin_dir, work):
+    started = time.monotonic()
+    proc, base, study = start_cli(bin_dir, work, "local", SPEC, "study")
     return proc, started, base, study
 
 
@@ -206,8 +227,75 @@ def live_study(driver, bin_dir, work, shots):
     return weight, first_point_s, study
 
 
-def dashboard_command(bin_dir, work, study):
-    """`gaitforge dashboard` serves the database the study left until it is stopped."""
+def running_diagnosis(driver, bin_dir, work, shots):
+    """A diagnosis while it runs: its row in the list, its stage and progress, live."""
+    proc, base, diagnosis = start_cli(bin_dir, work, "diagnose",
+                                      DIAGNOSIS_SPEC.format(cases=CASES), "diagnosis")
+    try:
+        driver.get(base + "#/diagnoses")
+        row = f'#diagnoses tr[data-diagnosis="{diagnosis}"]'
+        wait(driver, lambda d: css(d, row), "the diagnosis's row in the list")
+        text = css(driver, row)[0].text
+        check("dashboard-diagnosis" in text and "caterpillar" in text and "running" in text,
+              f"the diagnosis list shows {diagnosis} running: {text!r}")
+        css(driver, row)[0].click()
+        stage = re.compile(r"^[a-z ]+: \d+/\d+ fits done, \d+/\d+ evaluations")
+        line = lambda d: css(d, "#diagnosis-progress")[0].text if css(d, "#diagnosis-progress") else ""
+        first = wait(driver, lambda d: stage.match(line(d)) and line(d), "the diagnosis's stage and progress")
+        check(True, f"the running diagnosis shows its stage and progress: {first!r}")
+        driver.save_screenshot(os.path.join(shots, "diagnosis-running.png"))
+        wait(driver, lambda d: line(d) != first, "the progress line to change", timeout=60)
+        check(True, f"the progress line updates live: {line(driver)!r}")
+        proc.wait(timeout=120)
+        check(proc.returncode == 0, f"gaitforge diagnose completes (exit {proc.returncode})")
+    finally:
+        stop(proc)
+    return diagnosis
+
+
+def figure_loaded(driver, img_id):
+    return driver.execute_script(
+        "const i = document.getElementById(arguments[0]);"
+        "return !!i && i.complete && i.naturalWidth > 0;", img_id)
+
+
+def stored_diagnosis(driver, base, diagnosis, shots):
+    """The completed diagnosis: verdict in words, figures, candidates, fits' study links."""
+    driver.get(base + "#/diagnoses")
+    row = f'#diagnoses tr[data-diagnosis="{diagnosis}"]'
+    wait(driver, lambda d: css(d, row), "the stored diagnosis's row")
+    text = css(driver, row)[0].text
+    check("completed" in text and "found" in text, f"the list shows it completed, found: {text!r}")
+    css(driver, row)[0].click()
+    wait(driver, lambda d: css(d, "#verdict-words") and css(d, "#verdict-words")[0].text, "the verdict")
+    words = css(driver, "#verdict-words")[0].text
+    check(words == "found tether.constant", f"the verdict in words: {words!r}")
+    errors = css(driver, "#errors")[0].text
+    check(re.search(r"held-out error \S+ → \S+ mm, training \S+ → \S+ mm", errors),
+          f"the errors before and after: {errors!r}")
+    params = [e.get_attribute("data-param") for e in css(driver, '#effects [data-effect="tether.constant"] tr[data-param]')]
+    check(any(p.startswith("effect.") for p in params), f"the named effect's fitted parameters: {params}")
+    for img in ("located-figure", "diagnosis-figure"):
+        wait(driver, lambda d: figure_loaded(d, img), f"the figure {img} to load")
+    check(True, "both figures load as images (naturalWidth > 0): located.svg, diagnosis.svg")
+    cand = css(driver, '#candidates tr[data-candidate="ground.slope"]')
+    why = cand[0].find_element("css selector", "td.why").text if cand else ""
+    check(why, f"the candidates table has ground.slope with why not: {why!r}")
+    screened = [e.get_attribute("data-candidate") for e in css(driver, "#screening tr[data-candidate]")]
+    check(sorted(screened) == ["ground.slope", "tether.constant"], f"the screening lists both: {screened}")
+    check(css(driver, "#corrected-model"), "the corrected model is linked")
+    driver.save_screenshot(os.path.join(shots, "diagnosis.png"))
+    driver.execute_script("document.getElementById('figures').scrollIntoView()")
+    driver.save_screenshot(os.path.join(shots, "diagnosis-figures.png"))
+    cand[0].find_element("css selector", "a.study").click()
+    wait(driver, lambda d: css(d, "#facts") and "completed" in css(d, "#facts")[0].text,
+         "the fit's study page")
+    check(True, "a candidate's fit opens its study page")
+
+
+def dashboard_command(driver, bin_dir, work, study, diagnosis, shots):
+    """`gaitforge dashboard` serves the database the study and the diagnosis left until it
+    is stopped."""
     proc = subprocess.Popen([os.path.join(bin_dir, "gaitforge"), "dashboard"], cwd=work,
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
@@ -217,6 +305,7 @@ def dashboard_command(bin_dir, work, study):
         gens = json.loads(body)["generations"] if code == 200 else []
         check(gens and gens[0]["generation"] == 1,
               f"it serves the stored study: {len(gens)} generations since 1")
+        stored_diagnosis(driver, base, diagnosis, shots)
     finally:
         stop(proc)
     check(proc.returncode == 0, f"Ctrl-C stops gaitforge dashboard (exit {proc.returncode})")
@@ -259,6 +348,8 @@ def tokens(driver, bin_dir, work, shots):
         check(code == 403 and "worker token cannot" in body, f"a worker token: 403 {body}")
         code, body = http_status(base + "api/studies", CLIENT_TOKEN)
         check(code == 200 and json.loads(body) == {"studies": []}, "the client token: 200")
+        codes = [http_status(base + "api/diagnoses", t)[0] for t in (None, WORKER_TOKEN, CLIENT_TOKEN)]
+        check(codes == [401, 403, 200], f"/api/diagnoses: the same tokens ({codes})")
         check(http_status(base)[0] == 200, "the page itself (no data) loads without a token")
         driver.get(base)
         wait(driver, lambda d: css(d, "#auth")[0].is_displayed(), "the token form")
@@ -289,7 +380,8 @@ def main():
         driver = browser()
         try:
             weight, first_point_s, study = live_study(driver, a.bin_dir, work, a.screenshots)
-            dashboard_command(a.bin_dir, work, study)
+            diagnosis = running_diagnosis(driver, a.bin_dir, work, a.screenshots)
+            dashboard_command(driver, a.bin_dir, work, study, diagnosis, a.screenshots)
             tokens(driver, a.bin_dir, work, a.screenshots)
         except Exception:
             driver.save_screenshot(os.path.join(a.screenshots, "failure.png"))

@@ -1,8 +1,8 @@
 "use strict";
 // The dashboard's core: API calls carrying the token, the error banner, number formats,
 // polling, and the router that shows one view at a time. Views register themselves in
-// GF.views (studies here, study in study.js); a new view (diagnoses, once the coordinator
-// stores them) is one more entry and one more nav link.
+// GF.views (studies here, study in study.js, diagnoses and diagnosis in diagnosis.js); a new
+// view is one more entry and one more nav link.
 const GF = (() => {
   const TOKEN_KEY = "gaitforge.token";
   const etags = new Map();  // API path -> {etag, data}: unchanged answers come back as 304
@@ -22,18 +22,20 @@ const GF = (() => {
     constructor(status, message) { super(message); this.status = status; }
   }
 
-  async function api(path) {
-    const headers = {};
+  // GET with the tab's token as the Authorization header.
+  async function send(path, headers) {
     const token = sessionStorage.getItem(TOKEN_KEY);
     if (token) headers.Authorization = "Bearer " + token;
-    const known = etags.get(path);
-    if (known) headers["If-None-Match"] = known.etag;
-    let r;
     try {
-      r = await fetch(path, { headers, cache: "no-store" });
+      return await fetch(path, { headers, cache: "no-store" });
     } catch (e) {
       throw new ApiError(0, `cannot reach the coordinator at ${location.host} (${e.message})`);
     }
+  }
+
+  async function api(path) {
+    const known = etags.get(path);
+    const r = await send(path, known ? { "If-None-Match": known.etag } : {});
     if (r.status === 304 && known) return known.data;
     let body = null;
     try { body = await r.json(); } catch (e) { /* reported below */ }
@@ -45,6 +47,18 @@ const GF = (() => {
     const etag = r.headers.get("ETag");
     if (etag) etags.set(path, { etag, data: body });
     return body;
+  }
+
+  // A stored file as a Blob (for a blob: URL or its text): the token travels as a header,
+  // which <img src> and <a href> cannot send.
+  async function file(path) {
+    const r = await send(path, {});
+    if (!r.ok) {
+      let why = `HTTP ${r.status} ${r.statusText}`;
+      try { why = (await r.json()).error || why; } catch (e) { /* not JSON: the status */ }
+      throw new ApiError(r.status, `GET ${path}: ${why}`);
+    }
+    return r.blob();
   }
 
   const banner = () => document.getElementById("banner");
@@ -91,7 +105,8 @@ const GF = (() => {
     if (Number.isInteger(v) && Math.abs(v) < 1e9) return String(v);
     return v.toPrecision(digits).replace(/\.?0+(e|$)/, "$1");
   }
-  const stateName = (s) => (s || "STUDY_STATE_UNSPECIFIED").replace("STUDY_STATE_", "").toLowerCase();
+  // STUDY_STATE_RUNNING, DIAGNOSIS_STATE_RUNNING -> running
+  const stateName = (s) => (s || "STATE_UNSPECIFIED").replace(/^([A-Z]+_)?STATE_/, "").toLowerCase();
   const when = (ms) => (num(ms) > 0 ? new Date(num(ms)).toLocaleString() : "–");
   const clock = (ms) => (num(ms) > 0 ? new Date(num(ms)).toLocaleTimeString() : "–");
   // As the CLI's progress bar: 45s, 3m05s, 2h10m.
@@ -111,6 +126,8 @@ const GF = (() => {
     return e;
   }
   const cells = (row, values) => values.forEach((v) => row.append(v instanceof Node ? v : el("td", {}, v)));
+  // "name: value" in a facts line.
+  const fact = (name, value, attrs) => el("span", attrs || {}, el("b", {}, name + ": "), value);
   const stateBadge = (s) => el("span", { class: "state " + stateName(s) }, stateName(s));
 
   const views = {};
@@ -167,16 +184,6 @@ const GF = (() => {
     return tr;
   }
 
-  views.diagnoses = {
-    render(root) {
-      root.append(el("section", { id: "diagnoses" }, el("h1", {}, "Diagnoses"),
-        el("p", { class: "muted" }, "The coordinator does not store diagnoses yet: ",
-          "run gaitforge diagnose SPEC and open the figures it writes (located.svg, ",
-          "diagnosis.svg). Once diagnoses are stored with ids, this view lists them with their ",
-          "verdict, located mismatch, candidates and overlays.")));
-    },
-  };
-
   document.addEventListener("DOMContentLoaded", () => {
     authForm().addEventListener("submit", (ev) => {
       ev.preventDefault();
@@ -188,6 +195,6 @@ const GF = (() => {
     route();
   });
 
-  return { api, poll, fmt, num, el, cells, stateName, stateBadge, when, clock, duration, views,
+  return { api, file, poll, fmt, num, el, cells, fact, stateName, stateBadge, when, clock, duration, views,
     showError };
 })();

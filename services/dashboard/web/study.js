@@ -4,7 +4,7 @@
 // a generation on demand. Polls progress every second while the study runs and fetches
 // only what changed (history?since=N; ETags make unchanged answers empty 304s).
 (() => {
-  const { api, poll, fmt, num, el, cells, stateName, stateBadge, clock, duration } = GF;
+  const { api, poll, fmt, num, el, cells, fact, stateName, stateBadge, clock, duration } = GF;
 
   function skeleton(root, id) {
     const s = {
@@ -29,10 +29,6 @@
           s.history))),
       s.members);
     return s;
-  }
-
-  function fact(name, value, attrs) {
-    return el("span", attrs || {}, el("b", {}, name + ": "), value);
   }
 
   function showFacts(s, study, p, robot) {

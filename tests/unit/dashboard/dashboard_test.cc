@@ -12,6 +12,7 @@
 #include "services/dashboard/study_robot.h"
 #include "tests/integration/study_driver.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/dashboard/requests.h"
 
 namespace gaitforge::testing {
 namespace {
@@ -19,10 +20,6 @@ namespace {
 using dashboard::DashboardApi;
 using dashboard::HttpRequest;
 using dashboard::HttpResponse;
-
-constexpr char kClient[] = "client-token-0123456789";
-constexpr char kWorker[] = "worker-token-0123456789";
-constexpr char kAdmin[] = "admin-token-01234567890";
 
 class DashboardTest : public ::testing::Test {
  protected:
@@ -39,13 +36,7 @@ class DashboardTest : public ::testing::Test {
 
   HttpResponse Get(const std::string& path, const std::string& token = "",
                    std::map<std::string, std::string> query = {}) {
-    HttpRequest r;
-    r.method = "GET";
-    r.path = path;
-    r.query = std::move(query);
-    const std::string header = "Bearer " + token;
-    if (!token.empty()) r.authorization = &header;
-    return DashboardApi(*coord_, auth_).Handle(r);
+    return GetFrom(DashboardApi(*coord_, auth_), path, token, std::move(query));
   }
 
   void RequireTokens() {
@@ -60,10 +51,6 @@ class DashboardTest : public ::testing::Test {
   std::unique_ptr<coordinator::Coordinator> coord_;
   std::string id_;
 };
-
-bool Has(const std::string& body, const std::string& part) {
-  return body.find(part) != std::string::npos;
-}
 
 TEST_F(DashboardTest, ListsStudiesAndServesAStudyAsTheProtoJson) {
   HttpResponse list = Get("/api/studies");
@@ -134,11 +121,8 @@ TEST_F(DashboardTest, IsReadOnly) {
 TEST_F(DashboardTest, AnUnchangedAnswerIsA304WithoutBody) {
   HttpResponse first = Get("/api/studies/" + id_ + "/history");
   ASSERT_FALSE(first.etag.empty());
-  HttpRequest again;
-  again.method = "GET";
-  again.path = "/api/studies/" + id_ + "/history";
-  again.if_none_match = first.etag;
-  HttpResponse second = DashboardApi(*coord_, auth_).Handle(again);
+  HttpResponse second =
+      GetFrom(DashboardApi(*coord_, auth_), "/api/studies/" + id_ + "/history", "", {}, first.etag);
   EXPECT_EQ(second.status, 304);
   EXPECT_TRUE(second.body.empty());
 }
@@ -148,7 +132,7 @@ TEST_F(DashboardTest, ServesTheEmbeddedPage) {
   EXPECT_EQ(page.status, 200);
   EXPECT_EQ(page.content_type, "text/html; charset=utf-8");
   EXPECT_TRUE(Has(page.body, "<script src=\"app.js\">")) << page.body;
-  for (const char* f : {"/app.js", "/study.js", "/gait.js", "/style.css",
+  for (const char* f : {"/app.js", "/study.js", "/diagnosis.js", "/report.js", "/gait.js", "/style.css",
                         "/vendor/uPlot.iife.min.js", "/vendor/uPlot.min.css"})
     EXPECT_EQ(Get(f).status, 200) << f;
 }
