@@ -41,7 +41,7 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
   const std::set<std::string> objectives(req.worker().objectives().begin(),
                                          req.worker().objectives().end());
   std::unique_lock<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   const std::string& build = req.worker().sim_build();
   bool refused_build = false;  // jobs were there, but of a study pinned to another build
   auto accept = [&](const queue::JobKey& k) {
@@ -98,12 +98,31 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
   return out;
 }
 
-int Coordinator::FairShare(int requested) const {
+void Coordinator::Touch(const std::string& worker_id) {
+  const int64_t now = clock_.NowMs();
+  auto [it, added] = workers_seen_.try_emplace(worker_id, now);
+  // A new or returning worker changes the active count at once; otherwise it is recounted
+  // at most every kActiveRecountMs (a count over a thousand workers per Lease was the
+  // coordinator's largest cost at scale).
+  if (added || now - it->second > queue_.lease_ms()) active_at_ms_ = -1;
+  it->second = now;
+}
+
+int64_t Coordinator::ActiveWorkers() {
+  constexpr int64_t kActiveRecountMs = 50;
+  const int64_t now = clock_.NowMs();
+  if (active_at_ms_ < 0 || now - active_at_ms_ >= kActiveRecountMs || now < active_at_ms_) {
+    active_ = 0;
+    for (const auto& [id, seen] : workers_seen_) active_ += now - seen <= queue_.lease_ms();
+    active_at_ms_ = now;
+  }
+  return active_;
+}
+
+int Coordinator::FairShare(int requested) {
   // Split what is pending evenly among the workers seen within a lease period, so that one
   // fast worker does not take a whole generation while others wait.
-  const int64_t now = clock_.NowMs();
-  int64_t active = 0;
-  for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
+  const int64_t active = ActiveWorkers();
   const int64_t pending = static_cast<int64_t>(queue_.pending());
   const int64_t share = std::max<int64_t>(1, (pending + std::max<int64_t>(active, 1) - 1) /
                                                  std::max<int64_t>(active, 1));
@@ -113,7 +132,7 @@ int Coordinator::FairShare(int requested) const {
 absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& req) {
   if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
   std::lock_guard<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   // Check everything first: all or nothing.
   enum class Fate { kAccept, kDuplicate };
   std::vector<Fate> fate;
@@ -229,7 +248,7 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
 absl::StatusOr<v1::HeartbeatResponse> Coordinator::Heartbeat(const v1::HeartbeatRequest& req) {
   if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
   std::lock_guard<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   v1::HeartbeatResponse out;
   out.set_leases_renewed(queue_.Heartbeat(req.worker().worker_id()));
   out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
@@ -273,10 +292,10 @@ void Coordinator::Tick() {
   const int64_t now = clock_.NowMs();
   std::erase_if(workers_seen_,
                 [&](const auto& kv) { return now - kv.second > 10 * queue_.lease_ms(); });
+  active_at_ms_ = -1;
   if (options_.metrics) {
-    int active = 0;
-    for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
-    options_.metrics->SetQueue(queue_.pending(), queue_.in_flight(), active);
+    options_.metrics->SetQueue(queue_.pending(), queue_.in_flight(),
+                               static_cast<double>(ActiveWorkers()));
   }
   // Surface failed writes: the study stops rather than run on with a hole in its record.
   for (auto it = writes_.begin(); it != writes_.end();) {
