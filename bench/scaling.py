@@ -31,7 +31,7 @@ COLUMNS = [("N", "workers", "%d"), ("eval", "eval", "%s"), ("st", "studies", "%d
            ("evals", "results_accepted", "%d"), ("coord us/ev", "coordinator_cpu_us_per_eval", "%.0f"),
            ("swarm cpu s", "swarm_cpu_s", "%.1f"), ("lease p50", "lease_ms_p50", "%.1f"),
            ("lease p99", "lease_ms_p99", "%.0f"), ("turn p50", "turnaround_ms_p50", "%.1f"),
-           ("turn p99", "turnaround_ms_p99", "%.0f"), ("commit p50", "commit_ms_p50", "%.2f"),
+           ("turn p99", "turnaround_ms_p99", "%.0f"), ("disp p50", "dispatch_ms_p50", "%.0f"), ("commit p50", "commit_ms_p50", "%.2f"),
            ("commit p99", "commit_ms_p99", "%.1f"), ("hb/s", "heartbeat_per_s", "%.0f"),
            ("watch msg", "watch_messages", "%d"), ("peak MiB", "coordinator_peak_mib", "%.0f")]
 

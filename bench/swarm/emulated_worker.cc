@@ -64,15 +64,16 @@ void EmulatedWorker::SendLease() {
   env_.stats->lease.request_bytes += static_cast<int64_t>(call->req.ByteSizeLong());
   stub_->async()->Lease(&call->ctx, &call->req, &call->resp, [this, call, inc = incarnation_](
                                                                   grpc::Status s) {
-    const double rtt = std::chrono::duration<double, std::milli>(Clock::now() - call->t0).count();
-    env_.loop->Post([this, call, s, rtt, inc] {
-      if (inc == incarnation_ && phase_ != Phase::kStopped) OnLease(s, call->resp, rtt);
+    const auto received = Clock::now();
+    env_.loop->Post([this, call, s, received, inc] {
+      if (inc == incarnation_ && phase_ != Phase::kStopped)
+        OnLease(s, call->resp, call->t0, received);
     });
   });
 }
 
 void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& resp,
-                             double rtt_ms) {
+                             Clock::time_point sent, Clock::time_point received) {
   SwarmStats& st = *env_.stats;
   ++st.lease.calls;
   inflight_.reset();
@@ -94,7 +95,7 @@ void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& res
     SendLease();
     return;
   }
-  st.lease_ms.push_back(rtt_ms);
+  st.lease_ms.push_back(std::chrono::duration<double, std::milli>(received - sent).count());
   st.jobs_leased += resp.jobs_size();
   lease_ = resp;
   report_ = worker::StartReport(info_, lease_);
@@ -102,15 +103,17 @@ void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& res
   double total = 0;
   for (int i = 0; i < lease_.jobs_size(); ++i) {
     const v1::Job& job = lease_.jobs(i);
-    st.first_lease.emplace(std::make_pair(job.key().study_id(), job.key().generation()),
-                           Clock::now());
+    const auto gen = std::make_pair(job.key().study_id(), job.key().generation());
+    st.first_lease.emplace(gen, received);
+    if (!job.backup()) st.last_lease[gen] = received;
     const double d = env_.durations->Draw(job.key());
     worker::FillResult(report_.mutable_results(i),
                        worker::EvaluateJob(*env_.registry, job, {}), d);
     total += d;
   }
   phase_ = Phase::kEvaluating;
-  batch_start_ = Clock::now();
+  // The evaluation starts when the jobs arrive; the fitness computed above is part of it.
+  batch_start_ = received;
   const uint64_t batch = ++batch_seq_;
   const auto end = batch_start_ + std::chrono::microseconds(static_cast<int64_t>(total * 1e6));
   env_.loop->At(end, Guard([this] { FinishBatch(); }));

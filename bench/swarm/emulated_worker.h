@@ -45,7 +45,8 @@ class EmulatedWorker {
   struct Call;  // one RPC in flight
 
   void SendLease();
-  void OnLease(const grpc::Status& s, const v1::LeaseResponse& resp, double rtt_ms);
+  void OnLease(const grpc::Status& s, const v1::LeaseResponse& resp, Clock::time_point sent,
+               Clock::time_point received);
   void FinishBatch();
   void SendReport();
   void OnReport(const grpc::Status& s, const v1::ReportResponse& resp);

@@ -24,7 +24,7 @@ std::string ReportJson(int workers, const std::string& eval, int64_t nofile,
   const double wall = std::chrono::duration<double>(win.end - win.start).count();
   const double busy = SwarmStats::BusySeconds(st.busy, win.start, win.end);
   const double backup = SwarmStats::BusySeconds(st.backup_busy, win.start, win.end);
-  std::vector<double> turn = st.TurnaroundsMs();
+  std::vector<double> turn = st.TurnaroundsMs(), spread = st.DispatchSpreadsMs();
   const double coord_cpu = win.coord_cpu1 - win.coord_cpu0;
   std::vector<std::string> quoted_ids, quoted_states;
   for (const auto& id : ids) quoted_ids.push_back(absl::StrCat("\"", id, "\""));
@@ -44,6 +44,8 @@ std::string ReportJson(int workers, const std::string& eval, int64_t nofile,
       ", \"lease_ms_p99\": ", Num(Quantile(st.lease_ms, 0.99)),
       ", \"turnaround_ms_p50\": ", Num(Quantile(turn, 0.5)),
       ", \"turnaround_ms_p99\": ", Num(Quantile(turn, 0.99)),
+      ", \"dispatch_ms_p50\": ", Num(Quantile(spread, 0.5)),
+      ", \"dispatch_ms_p99\": ", Num(Quantile(spread, 0.99)),
       ",\n \"coordinator_cpu_s\": ", Num(coord_cpu),
       ", \"coordinator_cpu_us_per_eval\": ", Num(accepted > 0 ? 1e6 * coord_cpu / accepted : NAN),
       ", \"coordinator_rss_mib\": ", Num(win.coord_memory.rss_mib),

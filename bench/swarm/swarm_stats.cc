@@ -25,6 +25,16 @@ std::vector<double> SwarmStats::TurnaroundsMs() const {
   return out;
 }
 
+std::vector<double> SwarmStats::DispatchSpreadsMs() const {
+  std::vector<double> out;
+  for (const auto& [key, last] : last_lease) {
+    auto first = first_lease.find(key);
+    if (first == first_lease.end()) continue;
+    out.push_back(std::chrono::duration<double, std::milli>(last - first->second).count());
+  }
+  return out;
+}
+
 double Quantile(std::vector<double>& xs, double q) {
   if (xs.empty()) return NAN;
   std::sort(xs.begin(), xs.end());

@@ -27,12 +27,17 @@ struct SwarmStats {
   // Per study and generation: the last report landing and the first lease of the next one,
   // for the generation turnaround.
   std::map<std::pair<std::string, int>, Clock::time_point> last_report, first_lease;
+  // The last lease of a generation's own jobs (not backups): first_lease to it is the time
+  // the coordinator took to hand the generation out.
+  std::map<std::pair<std::string, int>, Clock::time_point> last_lease;
 
   // Busy seconds inside [from, to].
   static double BusySeconds(const Intervals& xs, Clock::time_point from, Clock::time_point to);
   // Seconds from the last report of generation g to the first lease of g + 1, per
   // generation of every study.
   std::vector<double> TurnaroundsMs() const;
+  // Milliseconds from a generation's first lease to the last lease of its own jobs.
+  std::vector<double> DispatchSpreadsMs() const;
 };
 
 // The q-quantile (0..1) of xs (sorted in place); NaN when empty.

@@ -108,6 +108,9 @@ class Coordinator {
     storage::JobCounters counters;                  // current generation's
     int last_invalid = 0;             // invalid members of the latest committed generation
     std::string last_invalid_reason;  // and their commonest reason
+    // A Job with the study's objective and bounds, which every leased job copies (built at
+    // the first lease; immutable, so it is copied outside mu_).
+    std::shared_ptr<const v1::Job> job_prototype;
   };
 
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);

@@ -76,6 +76,14 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
     for (const auto& lease : leases) backups += lease.backup;
     options_.metrics->Leased(static_cast<int>(leases.size()), backups);
   }
+  // Under the lock only what the queue and the engine decide; the messages are built
+  // after it is released (a new generation wakes every waiting worker at once).
+  struct Granted {
+    std::shared_ptr<const v1::Job> prototype;  // the study's objective and bounds
+    std::vector<double> genes;
+  };
+  std::vector<Granted> granted;
+  granted.reserve(leases.size());
   for (const auto& lease : leases) {
     Study& s = *studies_.at(lease.key.study_id);
     if (s.record.sim_build.empty() && !build.empty()) {
@@ -85,13 +93,23 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
     }
     ++s.counters.leases;
     if (lease.backup) ++s.counters.backups;
+    if (!s.job_prototype) {
+      auto proto = std::make_shared<v1::Job>();
+      *proto->mutable_objective() = s.spec.objective();
+      *proto->mutable_bounds() = s.spec.bounds();
+      s.job_prototype = std::move(proto);
+    }
+    granted.push_back({s.job_prototype, s.engine->Ask()[lease.key.member].genes});
+  }
+  l.unlock();
+  for (size_t i = 0; i < leases.size(); ++i) {
+    const queue::Lease& lease = leases[i];
     auto* job = out.add_jobs();
+    *job = *granted[i].prototype;
     job->mutable_key()->set_study_id(lease.key.study_id);
     job->mutable_key()->set_generation(lease.key.generation);
     job->mutable_key()->set_member(lease.key.member);
-    *job->mutable_objective() = s.spec.objective();
-    for (double x : s.engine->Ask()[lease.key.member].genes) job->add_genes(x);
-    *job->mutable_bounds() = s.spec.bounds();
+    job->mutable_genes()->Add(granted[i].genes.begin(), granted[i].genes.end());
     job->set_lease_id(lease.lease_id);
     job->set_backup(lease.backup);
   }
@@ -120,12 +138,15 @@ int64_t Coordinator::ActiveWorkers() {
 }
 
 int Coordinator::FairShare(int requested) {
-  // Split what is pending evenly among the workers seen within a lease period, so that one
-  // fast worker does not take a whole generation while others wait.
+  // Split what is pending evenly among the active workers that hold no lease yet (those
+  // that do already have their share), so that one fast worker does not take a whole
+  // generation while others wait, and so that the workers woken by a new generation each
+  // get an equal batch instead of ever smaller ones (issue 30).
   const int64_t active = ActiveWorkers();
+  const int64_t idle =
+      std::max<int64_t>(1, active - static_cast<int64_t>(queue_.workers_holding()));
   const int64_t pending = static_cast<int64_t>(queue_.pending());
-  const int64_t share = std::max<int64_t>(1, (pending + std::max<int64_t>(active, 1) - 1) /
-                                                 std::max<int64_t>(active, 1));
+  const int64_t share = std::max<int64_t>(1, (pending + idle - 1) / idle);
   return static_cast<int>(std::min<int64_t>(requested, share));
 }
 
@@ -240,6 +261,12 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     batch_ms_ewma_ = batch_ms_ewma_ == 0 ? batch_ms : 0.8 * batch_ms_ewma_ + 0.2 * batch_ms;
     queue_.set_lease_ms(std::clamp<int64_t>(static_cast<int64_t>(5 * batch_ms_ewma_),
                                             options_.lease_ms, 3600000));
+    // A straggler is a job out for twice the usual batch time (at least --backup-after-ms):
+    // with a fixed threshold near the batch time, every batch's last jobs were backed up
+    // just before they landed, and the copies delayed the next generation (issue 30).
+    if (options_.backup_after_ms > 0)
+      queue_.set_backup_after_ms(
+          std::max<int64_t>(options_.backup_after_ms, static_cast<int64_t>(2 * batch_ms_ewma_)));
   }
   if (out.accepted() > 0) Bump();
   return out;

@@ -89,10 +89,14 @@ class JobQueue {
   // Both O(1): kept up to date on every change of state.
   size_t pending() const { return pending_count_; }
   size_t in_flight() const { return leased_count_; }
+  // Workers holding at least one live lease.
+  size_t workers_holding() const { return held_.size(); }
   bool HasJob(const JobKey& key) const { return jobs_.count(key) > 0; }
   const QueueCounters& counters() const { return counters_; }
   int64_t lease_ms() const { return options_.lease_ms; }
   void set_lease_ms(int64_t ms) { options_.lease_ms = ms; }
+  int64_t backup_after_ms() const { return options_.backup_after_ms; }
+  void set_backup_after_ms(int64_t ms) { options_.backup_after_ms = ms; }
   uint32_t epoch() const { return epoch_; }
 
  private:
