@@ -11,6 +11,7 @@ PACKAGES=(
   iproute2 nftables
   python3 python3-matplotlib python3-numpy
   python3-grpcio python3-protobuf python3-yaml python3-pandas
+  python3-optuna
 )
 
 missing=()
