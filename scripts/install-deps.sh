@@ -13,6 +13,8 @@ PACKAGES=(
   python3-grpcio python3-protobuf python3-yaml python3-pandas
   # The dashboard's browser test (tests/dashboard): headless Chromium driven by Selenium.
   chromium chromium-driver python3-selenium
+  # bench/anchors/optuna_dispatch.py: Optuna's RDB storage as the dispatch anchor.
+  python3-optuna
 )
 
 missing=()

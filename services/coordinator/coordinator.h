@@ -113,6 +113,9 @@ class Coordinator {
     storage::JobCounters counters;                  // current generation's
     int last_invalid = 0;             // invalid members of the latest committed generation
     std::string last_invalid_reason;  // and their commonest reason
+    // A Job with the study's objective and bounds, which every leased job copies (built at
+    // the first lease; immutable, so it is copied outside mu_).
+    std::shared_ptr<const v1::Job> job_prototype;
   };
 
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
@@ -132,7 +135,11 @@ class Coordinator {
   storage::StudyRecord LiveRecord(const Study& s) const;
   void SetState(Study& s, const std::string& state, const std::string& error);
   void Bump();
-  int FairShare(int requested) const;
+  int FairShare(int requested);
+  // Records a call from the worker (Lease, Report, Heartbeat).
+  void Touch(const std::string& worker_id);
+  // Workers seen within one lease period (at least as fresh as kActiveRecountMs).
+  int64_t ActiveWorkers();
   // The engine is done, or the spec's generation count is reached.
   static bool Finished(const Study& s);
   void WatchWrite(std::future<absl::Status> f, const std::string& study_id);
@@ -150,6 +157,7 @@ class Coordinator {
   std::map<std::string, std::unique_ptr<Study>> studies_;  // GUARDED_BY(mu_)
   queue::JobQueue queue_;                                  // GUARDED_BY(mu_)
   std::map<std::string, int64_t> workers_seen_;            // GUARDED_BY(mu_)
+  int64_t active_ = 0, active_at_ms_ = -1;  // cached ActiveWorkers() and when; GUARDED_BY(mu_)
   std::vector<std::pair<std::string, std::future<absl::Status>>> writes_;  // GUARDED_BY(mu_)
   int64_t version_ = 0;                                    // GUARDED_BY(mu_)
   // Smoothed time from lease to report of a batch; leases last 5x this (at least

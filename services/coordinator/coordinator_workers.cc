@@ -41,7 +41,7 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
   const std::set<std::string> objectives(req.worker().objectives().begin(),
                                          req.worker().objectives().end());
   std::unique_lock<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   const std::string& build = req.worker().sim_build();
   bool refused_build = false;  // jobs were there, but of a study pinned to another build
   auto accept = [&](const queue::JobKey& k) {
@@ -76,6 +76,14 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
     for (const auto& lease : leases) backups += lease.backup;
     options_.metrics->Leased(static_cast<int>(leases.size()), backups);
   }
+  // Under the lock only what the queue and the engine decide; the messages are built
+  // after it is released (a new generation wakes every waiting worker at once).
+  struct Granted {
+    std::shared_ptr<const v1::Job> prototype;  // the study's objective and bounds
+    std::vector<double> genes;
+  };
+  std::vector<Granted> granted;
+  granted.reserve(leases.size());
   for (const auto& lease : leases) {
     Study& s = *studies_.at(lease.key.study_id);
     if (s.record.sim_build.empty() && !build.empty()) {
@@ -85,35 +93,67 @@ absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req
     }
     ++s.counters.leases;
     if (lease.backup) ++s.counters.backups;
+    if (!s.job_prototype) {
+      auto proto = std::make_shared<v1::Job>();
+      *proto->mutable_objective() = s.spec.objective();
+      *proto->mutable_bounds() = s.spec.bounds();
+      s.job_prototype = std::move(proto);
+    }
+    granted.push_back({s.job_prototype, s.engine->Ask()[lease.key.member].genes});
+  }
+  l.unlock();
+  for (size_t i = 0; i < leases.size(); ++i) {
+    const queue::Lease& lease = leases[i];
     auto* job = out.add_jobs();
+    *job = *granted[i].prototype;
     job->mutable_key()->set_study_id(lease.key.study_id);
     job->mutable_key()->set_generation(lease.key.generation);
     job->mutable_key()->set_member(lease.key.member);
-    *job->mutable_objective() = s.spec.objective();
-    for (double x : s.engine->Ask()[lease.key.member].genes) job->add_genes(x);
-    *job->mutable_bounds() = s.spec.bounds();
+    job->mutable_genes()->Add(granted[i].genes.begin(), granted[i].genes.end());
     job->set_lease_id(lease.lease_id);
     job->set_backup(lease.backup);
   }
   return out;
 }
 
-int Coordinator::FairShare(int requested) const {
-  // Split what is pending evenly among the workers seen within a lease period, so that one
-  // fast worker does not take a whole generation while others wait.
+void Coordinator::Touch(const std::string& worker_id) {
   const int64_t now = clock_.NowMs();
-  int64_t active = 0;
-  for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
+  auto [it, added] = workers_seen_.try_emplace(worker_id, now);
+  // A new or returning worker changes the active count at once; otherwise it is recounted
+  // at most every kActiveRecountMs (a count over a thousand workers per Lease was the
+  // coordinator's largest cost at scale).
+  if (added || now - it->second > queue_.lease_ms()) active_at_ms_ = -1;
+  it->second = now;
+}
+
+int64_t Coordinator::ActiveWorkers() {
+  constexpr int64_t kActiveRecountMs = 50;
+  const int64_t now = clock_.NowMs();
+  if (active_at_ms_ < 0 || now - active_at_ms_ >= kActiveRecountMs || now < active_at_ms_) {
+    active_ = 0;
+    for (const auto& [id, seen] : workers_seen_) active_ += now - seen <= queue_.lease_ms();
+    active_at_ms_ = now;
+  }
+  return active_;
+}
+
+int Coordinator::FairShare(int requested) {
+  // Split what is pending evenly among the active workers that hold no lease yet (those
+  // that do already have their share), so that one fast worker does not take a whole
+  // generation while others wait, and so that the workers woken by a new generation each
+  // get an equal batch instead of ever smaller ones (issue 30).
+  const int64_t active = ActiveWorkers();
+  const int64_t idle =
+      std::max<int64_t>(1, active - static_cast<int64_t>(queue_.workers_holding()));
   const int64_t pending = static_cast<int64_t>(queue_.pending());
-  const int64_t share = std::max<int64_t>(1, (pending + std::max<int64_t>(active, 1) - 1) /
-                                                 std::max<int64_t>(active, 1));
+  const int64_t share = std::max<int64_t>(1, (pending + idle - 1) / idle);
   return static_cast<int>(std::min<int64_t>(requested, share));
 }
 
 absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& req) {
   if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
   std::lock_guard<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   // Check everything first: all or nothing.
   enum class Fate { kAccept, kDuplicate };
   std::vector<Fate> fate;
@@ -221,6 +261,12 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     batch_ms_ewma_ = batch_ms_ewma_ == 0 ? batch_ms : 0.8 * batch_ms_ewma_ + 0.2 * batch_ms;
     queue_.set_lease_ms(std::clamp<int64_t>(static_cast<int64_t>(5 * batch_ms_ewma_),
                                             options_.lease_ms, 3600000));
+    // A straggler is a job out for twice the usual batch time (at least --backup-after-ms):
+    // with a fixed threshold near the batch time, every batch's last jobs were backed up
+    // just before they landed, and the copies delayed the next generation (issue 30).
+    if (options_.backup_after_ms > 0)
+      queue_.set_backup_after_ms(
+          std::max<int64_t>(options_.backup_after_ms, static_cast<int64_t>(2 * batch_ms_ewma_)));
   }
   if (out.accepted() > 0) Bump();
   return out;
@@ -229,7 +275,7 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
 absl::StatusOr<v1::HeartbeatResponse> Coordinator::Heartbeat(const v1::HeartbeatRequest& req) {
   if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
   std::lock_guard<std::mutex> l(mu_);
-  workers_seen_[req.worker().worker_id()] = clock_.NowMs();
+  Touch(req.worker().worker_id());
   v1::HeartbeatResponse out;
   out.set_leases_renewed(queue_.Heartbeat(req.worker().worker_id()));
   out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
@@ -273,10 +319,10 @@ void Coordinator::Tick() {
   const int64_t now = clock_.NowMs();
   std::erase_if(workers_seen_,
                 [&](const auto& kv) { return now - kv.second > 10 * queue_.lease_ms(); });
+  active_at_ms_ = -1;
   if (options_.metrics) {
-    int active = 0;
-    for (const auto& [id, seen] : workers_seen_) active += now - seen <= queue_.lease_ms();
-    options_.metrics->SetQueue(queue_.pending(), queue_.in_flight(), active);
+    options_.metrics->SetQueue(queue_.pending(), queue_.in_flight(),
+                               static_cast<double>(ActiveWorkers()));
   }
   // Surface failed writes: the study stops rather than run on with a hole in its record.
   for (auto it = writes_.begin(); it != writes_.end();) {

@@ -3,6 +3,7 @@
 // listener reachable from other hosts speaks TLS (unless the operator says --insecure).
 #include <grpcpp/security/server_credentials.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -33,5 +34,10 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(
 std::string DialAddress(const std::string& address, int port);
 
 absl::StatusOr<std::string> ReadFile(const std::string& path);
+
+// Raises the open-file limit to its hard maximum: every worker holds a connection, and a
+// default soft limit of 1024 would refuse workers past about a thousand (docs/scaling.md).
+// Returns the new soft limit.
+int64_t RaiseOpenFileLimit();
 
 }  // namespace gaitforge::coordinator

@@ -122,6 +122,10 @@ int main(int argc, char** argv) {
   sigaddset(&sigs, SIGINT);
   sigaddset(&sigs, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
+  const int64_t open_files = coordinator::RaiseOpenFileLimit();
+  if (open_files >= 0 && open_files < 4096)
+    spdlog::warn("open-file limit {}: at most about {} workers can connect (raise ulimit -n)",
+                 open_files, open_files - 64);
 
   std::error_code ec;
   if (auto s = core::CheckDbPath(db); !s.ok()) return Fail(std::string(s.message()));

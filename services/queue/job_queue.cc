@@ -7,25 +7,38 @@ namespace gaitforge::queue {
 JobQueue::JobQueue(core::Clock& clock, QueueOptions options, uint32_t epoch)
     : clock_(clock), options_(options), epoch_(epoch) {}
 
+void JobQueue::SetState(const JobKey& key, Job& job, State state) {
+  if (job.state == State::kPending) --pending_count_;
+  if (job.state == State::kLeased) {
+    --leased_count_;
+    if (!job.backed_up) stragglers_.erase({job.first_leased_ms, key});
+  }
+  job.state = state;
+  if (state == State::kPending) ++pending_count_;
+  if (state == State::kLeased) {
+    ++leased_count_;
+    if (!job.backed_up) stragglers_.insert({job.first_leased_ms, key});
+  }
+}
+
+void JobQueue::Unhold(const std::string& worker_id, const JobKey& key) {
+  auto it = held_.find(worker_id);
+  if (it == held_.end()) return;
+  it->second.erase(key);
+  if (it->second.empty()) held_.erase(it);
+}
+
+void JobQueue::Unindex(const JobKey& key, Job& job) {
+  for (const auto& h : job.holders) Unhold(h.worker_id, key);
+  job.holders.clear();
+  SetState(key, job, State::kDone);
+}
+
 void JobQueue::Add(const JobKey& key) {
   auto [it, inserted] = jobs_.try_emplace(key);
   if (!inserted) return;
+  ++pending_count_;  // a new Job starts in kPending
   pending_.push_back(key);
-}
-
-size_t JobQueue::pending() const {
-  size_t n = 0;
-  for (const auto& k : pending_) {
-    auto it = jobs_.find(k);
-    if (it != jobs_.end() && it->second.state == State::kPending) ++n;
-  }
-  return n;
-}
-
-size_t JobQueue::in_flight() const {
-  size_t n = 0;
-  for (const auto& [k, j] : jobs_) n += j.state == State::kLeased;
-  return n;
 }
 
 std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_jobs,
@@ -35,9 +48,13 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
   auto grant = [&](const JobKey& key, Job& job, bool backup) {
     const uint64_t id = NextLeaseId();
     job.holders.push_back(Holder{worker_id, id, now + options_.lease_ms});
+    job.lease_ids.push_back(id);
+    held_[worker_id].insert(key);
     issued_[id] = Issued{key, worker_id, now};
-    if (job.state == State::kPending) job.first_leased_ms = now;
-    job.state = State::kLeased;
+    if (job.state == State::kPending) {
+      job.first_leased_ms = now;
+      SetState(key, job, State::kLeased);
+    }
     ++counters_.leased;
     out.push_back(Lease{key, id, backup});
   };
@@ -56,22 +73,21 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
   }
   if (!out.empty() || options_.backup_after_ms <= 0) return out;
   // Nothing pending for this worker: back up the oldest stragglers it does not hold.
-  std::vector<std::pair<int64_t, const JobKey*>> stragglers;
-  for (auto& [key, job] : jobs_) {
-    if (job.state != State::kLeased || job.backed_up) continue;
-    if (now - job.first_leased_ms < options_.backup_after_ms) continue;
+  std::vector<JobKey> chosen;
+  for (const auto& [first_ms, key] : stragglers_) {
+    if (static_cast<int>(chosen.size()) >= max_jobs || now - first_ms < options_.backup_after_ms)
+      break;
+    const Job& job = jobs_.at(key);
     const bool mine = std::any_of(job.holders.begin(), job.holders.end(),
                                   [&](const Holder& h) { return h.worker_id == worker_id; });
-    if (mine || !accept(key)) continue;
-    stragglers.emplace_back(job.first_leased_ms, &key);
+    if (!mine && accept(key)) chosen.push_back(key);
   }
-  std::sort(stragglers.begin(), stragglers.end());
-  for (const auto& [t, key] : stragglers) {
-    if (static_cast<int>(out.size()) >= max_jobs) break;
-    Job& job = jobs_.at(*key);
+  for (const auto& key : chosen) {
+    Job& job = jobs_.at(key);
+    stragglers_.erase({job.first_leased_ms, key});
     job.backed_up = true;
     ++counters_.backups;
-    grant(*key, job, true);
+    grant(key, job, true);
   }
   return out;
 }
@@ -96,17 +112,17 @@ bool JobQueue::Complete(const JobKey& key) {
   if (it == jobs_.end()) return false;
   Job& job = it->second;
   if (job.state == State::kDone || job.state == State::kPoisoned) return false;
-  job.state = State::kDone;
-  job.holders.clear();
+  Unindex(key, job);
   return true;
 }
 
 int JobQueue::Heartbeat(const std::string& worker_id) {
+  auto held = held_.find(worker_id);
+  if (held == held_.end()) return 0;
   const int64_t until = clock_.NowMs() + options_.lease_ms;
   int renewed = 0;
-  for (auto& [key, job] : jobs_) {
-    if (job.state != State::kLeased) continue;
-    for (auto& h : job.holders) {
+  for (const auto& key : held->second) {
+    for (auto& h : jobs_.at(key).holders) {
       if (h.worker_id == worker_id) {
         h.expires_ms = until;
         ++renewed;
@@ -127,7 +143,11 @@ Expiry JobQueue::ExpireLeases() {
   for (auto& [key, job] : jobs_) {
     if (job.state != State::kLeased) continue;
     const size_t before = job.holders.size();
-    std::erase_if(job.holders, [&](const Holder& h) { return h.expires_ms <= now; });
+    std::erase_if(job.holders, [&](const Holder& h) {
+      if (h.expires_ms > now) return false;
+      Unhold(h.worker_id, key);
+      return true;
+    });
     const size_t expired = before - job.holders.size();
     if (expired == 0) continue;
     counters_.expired += static_cast<int64_t>(expired);
@@ -135,11 +155,11 @@ Expiry JobQueue::ExpireLeases() {
     if (!job.holders.empty()) continue;  // a backup copy is still out
     ++job.attempts;
     if (job.attempts >= options_.max_attempts) {
-      job.state = State::kPoisoned;
+      SetState(key, job, State::kPoisoned);
       ++counters_.poisoned;
       out.poisoned.push_back(key);
     } else {
-      job.state = State::kPending;
+      SetState(key, job, State::kPending);
       ++out.requeued;
       job.backed_up = false;
       pending_.push_front(key);  // retried before newer work
@@ -149,17 +169,28 @@ Expiry JobQueue::ExpireLeases() {
 }
 
 void JobQueue::RemoveStudy(const std::string& study_id) {
-  std::erase_if(jobs_, [&](const auto& kv) { return kv.first.study_id == study_id; });
-  std::erase_if(pending_, [&](const JobKey& k) { return k.study_id == study_id; });
+  RemoveIf([&](const JobKey& k) { return k.study_id == study_id; }, false);
 }
 
 void JobQueue::RemoveGeneration(const std::string& study_id, int generation) {
-  std::erase_if(jobs_, [&](const auto& kv) {
-    return kv.first.study_id == study_id && kv.first.generation == generation;
-  });
-  std::erase_if(pending_, [&](const JobKey& k) {
-    return k.study_id == study_id && k.generation == generation;
-  });
+  // A committed generation's late results are duplicates by their generation alone (the
+  // coordinator checks that first), so its lease ids need not be remembered.
+  RemoveIf([&](const JobKey& k) { return k.study_id == study_id && k.generation == generation; },
+           true);
+}
+
+void JobQueue::RemoveIf(const std::function<bool(const JobKey&)>& match, bool forget_leases) {
+  for (auto it = jobs_.begin(); it != jobs_.end();) {
+    if (!match(it->first)) {
+      ++it;
+      continue;
+    }
+    Unindex(it->first, it->second);
+    if (forget_leases)
+      for (uint64_t id : it->second.lease_ids) issued_.erase(id);
+    it = jobs_.erase(it);
+  }
+  std::erase_if(pending_, match);
 }
 
 }  // namespace gaitforge::queue

@@ -86,12 +86,17 @@ class JobQueue {
   void RemoveStudy(const std::string& study_id);
   void RemoveGeneration(const std::string& study_id, int generation);
 
-  size_t pending() const;
-  size_t in_flight() const;
+  // Both O(1): kept up to date on every change of state.
+  size_t pending() const { return pending_count_; }
+  size_t in_flight() const { return leased_count_; }
+  // Workers holding at least one live lease.
+  size_t workers_holding() const { return held_.size(); }
   bool HasJob(const JobKey& key) const { return jobs_.count(key) > 0; }
   const QueueCounters& counters() const { return counters_; }
   int64_t lease_ms() const { return options_.lease_ms; }
   void set_lease_ms(int64_t ms) { options_.lease_ms = ms; }
+  int64_t backup_after_ms() const { return options_.backup_after_ms; }
+  void set_backup_after_ms(int64_t ms) { options_.backup_after_ms = ms; }
   uint32_t epoch() const { return epoch_; }
 
  private:
@@ -107,6 +112,7 @@ class JobQueue {
     int64_t first_leased_ms = 0;
     bool backed_up = false;
     std::vector<Holder> holders;  // active leases
+    std::vector<uint64_t> lease_ids;  // every lease id issued for it (keys of issued_)
   };
   struct Issued {
     JobKey key;
@@ -115,6 +121,14 @@ class JobQueue {
   };
 
   uint64_t NextLeaseId() { return (static_cast<uint64_t>(epoch_) << 32) | ++lease_seq_; }
+  // Moves a job to `state`, keeping the counts and the straggler index in step.
+  void SetState(const JobKey& key, Job& job, State state);
+  // Drops a holder's entry from the per-worker index.
+  void Unhold(const std::string& worker_id, const JobKey& key);
+  // Erases every trace of a job from the indexes (the job itself stays in jobs_).
+  void Unindex(const JobKey& key, Job& job);
+  // Forgets the matching jobs (and with forget_leases, the lease ids issued for them).
+  void RemoveIf(const std::function<bool(const JobKey&)>& match, bool forget_leases);
 
   core::Clock& clock_;
   QueueOptions options_;
@@ -128,6 +142,14 @@ class JobQueue {
   // result); LeaseJobs skips those.
   std::deque<JobKey> pending_;
   QueueCounters counters_;
+  // Indexes that keep every call O(log n) in the jobs involved rather than O(all jobs), so
+  // that a thousand workers' leases and heartbeats stay cheap (docs/scaling.md).
+  size_t pending_count_ = 0;  // jobs in kPending
+  size_t leased_count_ = 0;   // jobs in kLeased
+  // Leased jobs without a backup copy yet, oldest lease first: the backup candidates.
+  std::set<std::pair<int64_t, JobKey>> stragglers_;
+  // The jobs each worker holds a lease on (what Heartbeat renews).
+  std::map<std::string, std::set<JobKey>> held_;
 };
 
 }  // namespace gaitforge::queue

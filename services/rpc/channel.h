@@ -17,6 +17,9 @@ struct ChannelOptions {
   std::string tls_cert;  // PEM client certificate (with tls_key), for servers that ask
   std::string tls_key;
   std::string token;     // bearer token sent with every call (empty: none)
+  // A connection of its own rather than one shared with other channels to the same target
+  // (gRPC shares subchannels process-wide): bench/swarm emulates many workers in one process.
+  bool own_connection = false;
 };
 
 // Reads the token from `file` if given, else from the environment variable `env`.

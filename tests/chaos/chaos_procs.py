@@ -106,7 +106,7 @@ def wait_port_file(path, proc, timeout=30.0):
             with open(path) as f:
                 text = f.read().strip()
             if text:
-                return int(text)
+                return int(text.split()[0])  # second line: the metrics port
         except (FileNotFoundError, ValueError):
             pass
         if proc.poll() is not None:

@@ -46,6 +46,28 @@ TEST(Coordinator, RunsAStudyToCompletionAndStoresEverything) {
   for (int g = 1; g < 6; ++g) EXPECT_GE(d.hof_fitness[g * 10], d.hof_fitness[(g - 1) * 10]);
 }
 
+// Fair share (issue 30): the workers woken by a new generation each get an equal batch,
+// not ever smaller ones (pending is divided among the active workers holding nothing).
+TEST(Coordinator, IdleWorkersGetEqualShares) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("f.db"), clock);
+  const std::string id = Create(*c, SmallSpec(3));  // 30 members in generation 0
+  v1::HeartbeatRequest hb;
+  for (const char* w : {"a", "b", "c"}) {
+    hb.mutable_worker()->set_worker_id(w);
+    ASSERT_TRUE(c->Heartbeat(hb).ok());
+  }
+  for (const char* w : {"a", "b", "c"}) {
+    v1::LeaseRequest req;
+    req.mutable_worker()->set_worker_id(w);
+    req.set_max_jobs(100);
+    auto lease = c->Lease(req);
+    ASSERT_TRUE(lease.ok()) << lease.status();
+    EXPECT_EQ(lease->jobs_size(), 10) << w;
+  }
+}
+
 TEST(Coordinator, ResultDoesNotDependOnBatchingOrReportOrder) {
   TempDir dir;
   core::ManualClock clock;

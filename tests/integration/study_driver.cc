@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "workers/protocol/job_eval.h"
+
 namespace gaitforge::testing {
 
 int Drive(coordinator::Coordinator& c, const DriveOptions& o) {
@@ -24,21 +26,10 @@ int Drive(coordinator::Coordinator& c, const DriveOptions& o) {
     if (o.reverse) std::reverse(idx.begin(), idx.end());
     for (int i : idx) {
       const auto& job = lease->jobs(i);
-      objectives::EvalInput in;
-      in.genes.assign(job.genes().begin(), job.genes().end());
-      for (const auto& b : job.bounds()) {
-        in.lo.push_back(b.lo());
-        in.hi.push_back(b.hi());
-      }
-      for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
-      const auto r = objectives::EvaluateSafely(*registry.Find(job.objective().name()), in);
       auto* res = rep.add_results();
       *res->mutable_key() = job.key();
       res->set_lease_id(job.lease_id());
-      res->mutable_evaluation()->set_valid(r.valid);
-      res->mutable_evaluation()->set_fitness(r.fitness);
-      for (const auto& [name, value] : r.metrics)
-        (*res->mutable_evaluation()->mutable_metrics())[name] = value;
+      worker::FillResult(res, worker::EvaluateJob(registry, job, {}), 0);
     }
     auto ok = c.Report(rep);
     EXPECT_TRUE(ok.ok()) << ok.status();

@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
                     "reported, then the worker exits 0.");
   flags.Add("coordinator", &o.coordinator, "coordinator address, host:port");
   flags.Add("threads", &o.threads, "evaluations run at once (1..256)");
-  flags.Add("max-batch", &o.max_batch, "most jobs per lease (the worker aims at ~0.5 s of work)");
+  flags.Add("max-batch", &o.max_batch, "most jobs per lease (the worker aims at ~2 s of work)");
   flags.Add("worker-id", &o.worker_id, "identity shown in results (default host-pid-random)");
   flags.Add("exit-when-idle", &o.exit_when_idle_s, "exit after this many seconds without work (0: never)");
   flags.Add("coordinator-file", &o.coordinator_file,

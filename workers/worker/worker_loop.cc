@@ -17,6 +17,8 @@
 #include "gaitforge/v1/worker.grpc.pb.h"
 #include "services/core/build_info.h"
 #include "services/rpc/channel.h"
+#include "workers/protocol/job_eval.h"
+#include "workers/protocol/wire.h"
 #include "workers/worker/batch_runner.h"
 #include "workers/worker/recording_cache.h"
 
@@ -24,16 +26,6 @@ namespace gaitforge::worker {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-constexpr int kLeaseWaitMs = 2000;
-constexpr double kTargetBatchSeconds = 0.5;
-
-std::string DefaultWorkerId() {
-  char host[256] = {0};
-  gethostname(host, sizeof host - 1);
-  std::random_device rd;
-  return absl::StrCat(host, "-", getpid(), "-", absl::Hex(rd() & 0xffff, absl::kZeroPad4));
-}
 
 // host:port from a file written by the coordinator (--address-file); empty until it exists.
 std::string ReadAddressFile(const std::string& path) {
@@ -44,31 +36,12 @@ std::string ReadAddressFile(const std::string& path) {
   return line;
 }
 
-bool Retryable(const grpc::Status& s) {
-  return s.error_code() == grpc::StatusCode::UNAVAILABLE ||
-         s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED ||
-         s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED ||
-         s.error_code() == grpc::StatusCode::ABORTED ||
-         s.error_code() == grpc::StatusCode::INTERNAL ||
-         s.error_code() == grpc::StatusCode::UNKNOWN;
+// Sleeps the backoff's next delay in 20 ms steps, returning early once `drain` is set.
+void SleepBackoff(Backoff& backoff, std::atomic<bool>& drain) {
+  const auto until = Clock::now() + std::chrono::milliseconds(backoff.NextDelayMs());
+  while (Clock::now() < until && !drain.load())
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
-
-// Exponential backoff with jitter, 100 ms to 5 s.
-class Backoff {
- public:
-  void Reset() { ms_ = 100; }
-  void Sleep(std::atomic<bool>& drain) {
-    std::uniform_int_distribution<int> jitter(ms_ / 2, ms_);
-    const auto until = Clock::now() + std::chrono::milliseconds(jitter(rng_));
-    while (Clock::now() < until && !drain.load())
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ms_ = std::min(ms_ * 2, 5000);
-  }
-
- private:
-  int ms_ = 100;
-  std::mt19937 rng_{std::random_device{}()};
-};
 
 }  // namespace
 
@@ -116,14 +89,8 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
       return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
     return RecordingCache::Bytes{resp.recording().name(), resp.csv(), resp.sidecar()};
   });
-  v1::WorkerInfo info;
-  info.set_worker_id(options.worker_id.empty() ? DefaultWorkerId() : options.worker_id);
-  char host[256] = {0};
-  gethostname(host, sizeof host - 1);
-  info.set_hostname(host);
-  info.set_threads(options.threads);
-  info.set_sim_build(SimBuild());
-  for (const auto& n : registry.Names()) info.add_objectives(n);
+  const v1::WorkerInfo info =
+      MakeWorkerInfo(options.worker_id, options.threads, SimBuild(), registry.Names());
   spdlog::info("worker={} ({} threads) pulling from {}", info.worker_id(), options.threads,
                copts.target);
 
@@ -142,14 +109,13 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
         std::lock_guard<std::mutex> l(lease_mu);
         if (lease_ctx) lease_ctx->TryCancel();
       }
-      if (Clock::now() - last < std::chrono::milliseconds(std::max(200, lease_ms.load() / 3)))
+      if (Clock::now() - last < std::chrono::milliseconds(HeartbeatIntervalMs(lease_ms.load())))
         continue;
       last = Clock::now();
       if (!holding.load()) continue;
       grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, 5, options.token);
-      v1::HeartbeatRequest req;
-      *req.mutable_worker() = info;
+      rpc::PrepareCall(ctx, kHeartbeatDeadlineS, options.token);
+      const v1::HeartbeatRequest req = MakeHeartbeatRequest(info);
       v1::HeartbeatResponse resp;
       grpc::Status s = current_stub()->Heartbeat(&ctx, req, &resp);
       if (s.ok()) lease_ms = resp.lease_ms();
@@ -166,19 +132,12 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     if (options.exit_when_idle_s > 0 &&
         std::chrono::duration<double>(Clock::now() - last_work).count() > options.exit_when_idle_s)
       break;
-    int want = options.threads * 4;
-    if (mean_eval_s > 0)
-      want = options.threads * static_cast<int>(std::ceil(kTargetBatchSeconds / mean_eval_s));
-    want = std::clamp(want, 1, options.max_batch);
-
-    v1::LeaseRequest lreq;
-    *lreq.mutable_worker() = info;
-    lreq.set_max_jobs(std::min(want, 1024));
-    lreq.set_wait_ms(kLeaseWaitMs);
+    const v1::LeaseRequest lreq =
+        MakeLeaseRequest(info, WantJobs(options.threads, mean_eval_s, options.max_batch));
     v1::LeaseResponse lease;
     {
       grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, (kLeaseWaitMs + 10000) / 1000.0, options.token);
+      rpc::PrepareCall(ctx, kLeaseDeadlineS, options.token);
       {
         std::lock_guard<std::mutex> l(lease_mu);
         lease_ctx = &ctx;
@@ -197,7 +156,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
           break;
         }
         spdlog::warn("coordinator unreachable ({}); retrying", s.error_message());
-        backoff.Sleep(drain);
+        SleepBackoff(backoff, drain);
         if (!options.coordinator_file.empty()) {
           // A restarted coordinator may have moved (another node): follow its file.
           const std::string target = ReadAddressFile(options.coordinator_file);
@@ -240,7 +199,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
             if (drain.load()) break;  // leave the batch unevaluated: its leases expire
             spdlog::warn("worker={} fetching recording {}: {}; retrying", info.worker_id(), hash,
                          std::string(r.status().message()));
-            backoff.Sleep(drain);
+            SleepBackoff(backoff, drain);
           }
         }
       }
@@ -254,73 +213,33 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
       holding = false;
       break;
     }
-    v1::ReportRequest report;
-    *report.mutable_worker() = info;
-    for (int i = 0; i < n; ++i) report.add_results();
+    v1::ReportRequest report = StartReport(info, lease);
     const auto t0 = Clock::now();
     runner.Run(n, [&](int i) {
-      const v1::Job& job = lease.jobs(i);
-      v1::JobResult* out = report.mutable_results(i);
-      *out->mutable_key() = job.key();
-      out->set_lease_id(job.lease_id());
       const auto start = Clock::now();
-      objectives::EvalResult r;
-      const objectives::Objective* obj = registry.Find(job.objective().name());
-      if (!obj) {
-        r.reason = absl::StrCat("objective '", job.objective().name(),
-                                "' is not built into this worker");
-      } else {
-        objectives::EvalInput in;
-        in.genes.assign(job.genes().begin(), job.genes().end());
-        for (const auto& b : job.bounds()) {
-          in.lo.push_back(b.lo());
-          in.hi.push_back(b.hi());
-        }
-        for (const auto& [k, v] : job.objective().params()) in.params[k] = v;
-        for (const auto& [k, v] : job.objective().options()) in.options[k] = v;
-        in.robot = job.objective().robot();
-        in.robot_descriptor = job.objective().robot_descriptor();
-        for (const auto& b : job.bounds()) in.gene_names.push_back(b.name());
-        std::string missing;
-        for (const auto& hash : job.objective().recordings()) {
-          const auto& r = fetched.at(hash);
-          if (r.ok()) in.recordings.push_back(*r);
-          else missing = absl::StrCat("recording ", hash, " is not available: ", r.status().message());
-        }
-        if (!missing.empty()) {
-          r.reason = missing;
-        } else if (in.lo.size() != in.genes.size()) {
-          r.reason = absl::StrCat("job has ", in.genes.size(), " genes but ", in.lo.size(),
-                                  " bounds");
-        } else {
-          r = objectives::EvaluateSafely(*obj, in);
-        }
-      }
-      auto* e = out->mutable_evaluation();
-      e->set_valid(r.valid);
-      e->set_fitness(r.fitness);
-      e->set_reason(r.reason);
-      for (const auto& [k, v] : r.metrics) (*e->mutable_metrics())[k] = v;
-      out->set_eval_seconds(std::chrono::duration<double>(Clock::now() - start).count());
+      const objectives::EvalResult r = EvaluateJob(registry, lease.jobs(i), fetched);
+      FillResult(report.mutable_results(i), r,
+                 std::chrono::duration<double>(Clock::now() - start).count());
     });
     const double batch_s = std::chrono::duration<double>(Clock::now() - t0).count();
-    const double per_eval = batch_s * options.threads / n;
-    mean_eval_s = mean_eval_s == 0 ? per_eval : 0.7 * mean_eval_s + 0.3 * per_eval;
+    mean_eval_s = UpdateMeanEval(mean_eval_s, batch_s, options.threads, n);
     stats.evaluated += n;
 
     // Report until it lands; a draining worker gives up after about 10 s.
-    const auto report_deadline = Clock::now() + std::chrono::seconds(10);
+    const auto report_deadline =
+        Clock::now() + std::chrono::milliseconds(static_cast<int>(kDrainReportGiveUpS * 1000));
     for (;;) {
       grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, 30, options.token);
+      rpc::PrepareCall(ctx, kReportDeadlineS, options.token);
       v1::ReportResponse resp;
       grpc::Status s = current_stub()->Report(&ctx, report, &resp);
-      if (s.ok()) {
+      const ReportFate fate = ClassifyReport(s);
+      if (fate == ReportFate::kLanded) {
         stats.reported += resp.accepted();
         stats.duplicates += resp.duplicates();
         break;
       }
-      if (!Retryable(s) || s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) {
+      if (fate == ReportFate::kDrop) {
         spdlog::error("report refused: {}", s.error_message());
         stats.refused += n;
         break;
@@ -331,7 +250,7 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
       }
       spdlog::warn("report failed ({}); retrying", s.error_message());
       std::atomic<bool> never{false};
-      backoff.Sleep(never);
+      SleepBackoff(backoff, never);
     }
     backoff.Reset();
     holding = false;

@@ -123,5 +123,73 @@ TEST_F(JobQueueTest, AcceptFilterAndRemoval) {
   EXPECT_FALSE(q_.HasJob(JobKey{"t", 0, 0}));
 }
 
+// The counts and indexes that keep a thousand workers' calls cheap (issue 30) agree with
+// the jobs' states through every transition.
+TEST_F(JobQueueTest, CountsFollowEveryTransition) {
+  AddJobs(4);
+  EXPECT_EQ(q_.pending(), 4u);
+  auto a = q_.LeaseJobs("w1", 2, kAll);
+  auto b = q_.LeaseJobs("w2", 1, kAll);
+  EXPECT_EQ(q_.pending(), 1u);
+  EXPECT_EQ(q_.in_flight(), 3u);
+  q_.Complete(a[0].key);
+  EXPECT_EQ(q_.in_flight(), 2u);
+  q_.Complete(JobKey{"s", 0, 3});  // a pending job completed by a late result
+  EXPECT_EQ(q_.pending(), 0u);
+  clock_.Advance(1001);
+  q_.ExpireLeases();  // a[1] and b[0] go back
+  EXPECT_EQ(q_.pending(), 2u);
+  EXPECT_EQ(q_.in_flight(), 0u);
+  q_.LeaseJobs("w3", 1, kAll);
+  q_.RemoveStudy("s");
+  EXPECT_EQ(q_.pending(), 0u);
+  EXPECT_EQ(q_.in_flight(), 0u);
+}
+
+TEST_F(JobQueueTest, HeartbeatRenewsOnlyTheCallersLeases) {
+  AddJobs(3);
+  q_.LeaseJobs("w1", 2, kAll);
+  auto other = q_.LeaseJobs("w2", 1, kAll);
+  clock_.Advance(800);
+  EXPECT_EQ(q_.Heartbeat("w1"), 2);
+  EXPECT_EQ(q_.Heartbeat("nobody"), 0);
+  clock_.Advance(300);
+  const Expiry e = q_.ExpireLeases();
+  ASSERT_EQ(e.expired.size(), 1u);
+  EXPECT_EQ(e.expired[0], other[0].key);
+  EXPECT_EQ(q_.Heartbeat("w2"), 0);  // its lease is gone
+}
+
+TEST_F(JobQueueTest, BackupsGoToTheOldestStragglersOnce) {
+  AddJobs(3);
+  q_.LeaseJobs("w1", 1, kAll);
+  clock_.Advance(100);
+  q_.LeaseJobs("w2", 2, kAll);
+  clock_.Advance(450);  // only w1's job is older than 500 ms
+  auto b = q_.LeaseJobs("w3", 5, kAll);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_TRUE(b[0].backup);
+  EXPECT_EQ(b[0].key.member, 0);
+  clock_.Advance(100);
+  auto c = q_.LeaseJobs("w2", 5, kAll);  // w2's own jobs are not backed up for it
+  EXPECT_TRUE(c.empty());
+  auto d = q_.LeaseJobs("w4", 5, kAll);
+  EXPECT_EQ(d.size(), 2u);
+  EXPECT_TRUE(q_.LeaseJobs("w5", 5, kAll).empty());  // one backup per job
+}
+
+TEST_F(JobQueueTest, RemoveGenerationForgetsItsLeaseIdsButRemoveStudyKeepsThem) {
+  q_.Add(JobKey{"s", 0, 0});
+  q_.Add(JobKey{"t", 0, 0});
+  auto s0 = q_.LeaseJobs("w1", 1, kAll);
+  auto t0 = q_.LeaseJobs("w1", 1, kAll);
+  q_.Complete(s0[0].key);
+  q_.RemoveGeneration("s", 0);
+  EXPECT_EQ(q_.LeaseAgeMs(s0[0].lease_id), -1);
+  q_.RemoveStudy("t");
+  q_.Add(JobKey{"t", 0, 0});  // resumed
+  EXPECT_EQ(q_.Check("w1", JobKey{"t", 0, 0}, t0[0].lease_id), ReportCheck::kOpen);
+}
+
 }  // namespace
 }  // namespace gaitforge::queue
