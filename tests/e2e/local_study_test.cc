@@ -138,7 +138,7 @@ TEST(EndToEnd, OneWritingCoordinatorPerDatabase) {
   EXPECT_NE(cancel.err.find("using the coordinator that holds " + dir.File("r.db") + " (pid "),
             std::string::npos)
       << cancel.err;
-  EXPECT_NE(cancel.err.find("no study with id 'x'"), std::string::npos) << cancel.err;
+  EXPECT_NE(cancel.err.find("no study or diagnosis with id 'x'"), std::string::npos) << cancel.err;
 }
 
 TEST(EndToEnd, BadInputGetsClearErrorsAndExitCodes) {
