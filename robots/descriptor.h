@@ -136,11 +136,19 @@ struct Ground {
   Expr erp, cfm;  // contact softness (ODE's ERP and CFM)
 };
 
+// The report figure kinds a descriptor may offer (`figures:`; docs/robots.md):
+// paper_gait: gait diagrams, period sweep and travelling waves of the best gaits and the
+// best one's markers (paper 000's figures, drawn with gaitforge-sim's tools).
+inline const std::vector<std::string> kFigureKinds = {"paper_gait"};
+
 struct RobotDescriptor {
   std::string name;     // "caterpillar"
   std::string summary;
   std::string paper;    // the paper it follows (../shared/papers/), may be empty
   std::string model;    // the model kind that simulates it (workers/)
+  // Report figures its model's tools can draw for a gait study (kFigureKinds), beyond the
+  // fitness curve every study gets; empty: none.
+  std::vector<std::string> figures;
   std::string source;   // the file it was read from, for messages
   std::vector<Parameter> parameters;
   std::vector<Scale> scales;

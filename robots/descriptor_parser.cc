@@ -1,5 +1,6 @@
 #include "robots/descriptor_parser.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -228,12 +229,21 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
     if (!v.ok()) return v.status();
     *out = *v;
   }
+  if (!root["figures"]) return absl::OkStatus();
+  auto figures = f.StringList(root["figures"], "figures");
+  if (!figures.ok()) return figures.status();
+  for (size_t i = 0; i < figures->size(); ++i)
+    if (std::find(kFigureKinds.begin(), kFigureKinds.end(), (*figures)[i]) == kFigureKinds.end())
+      return f.Error(root["figures"][i], absl::StrCat("figures[", i, "]"),
+                     absl::StrCat("'", (*figures)[i], "' is not a figure kind (known: ",
+                                  absl::StrJoin(kFigureKinds, ", "), ")"));
+  d.figures = *figures;
   return absl::OkStatus();
 }
 
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
-  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "parameters",
+  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "parameters",
                                        "scales", "relations", "controller", "sensors", "bodies",
                                        "joints", "actuators", "ground"});
       !s.ok())

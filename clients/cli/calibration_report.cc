@@ -1,6 +1,6 @@
-// The report of a calibration study (`gaitforge report ID` when the objective is
-// caterpillar.calibration): fitted parameters with their uncertainty (the final CMA-ES
-// distribution), training and held-out error before (robots/caterpillar/robot.yaml as it is) and after
+// The report of a calibration study (`gaitforge report ID` when the objective calibrates a
+// robot): fitted parameters with their uncertainty (the final CMA-ES distribution),
+// training and held-out error before (the robot's descriptor as it is) and after
 // the fit, the real-to-simulated distance ratio per recording (paper 000 Fig. 9), and
 // overlays of recorded and simulated markers (paper 000 Figs. 11, 12).
 #include <filesystem>

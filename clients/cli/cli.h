@@ -128,14 +128,19 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
               const std::string& out_dir);
 int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, int rank,
                   int generation, const std::string& out, double rate, int cycles);
-// The caterpillar paper's figures (gait diagrams, period sweep, travelling wave) for the
+// The figures a study's objective and robot offer, after its fitness curve: a calibration's
+// report (CalibrationReport) when the objective calibrates a robot; the paper_gait figures
+// when its robot's descriptor lists them (`figures`, docs/robots.md); else none.
+int StudyReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
+                const GlobalOptions& g, std::vector<std::string>* written);
+// The paper_gait figures (gait diagrams, period sweep, travelling wave) for the
 // study's `top` best gaits, and the best one's marker trajectory, into out_dir; every
 // simulation with the study's own model (its objective's `set`, timestep_ms and
 // settle_cycles). Each best gait is also re-run at half and a quarter of the timestep
 // ("timestep_check"): the hopping robot's single-cycle fitness can be numerical luck.
-int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
-                      const std::string& out_dir, const GlobalOptions& g, int top,
-                      std::vector<std::string>* written);
+int PaperGaitReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                    const std::string& out_dir, const GlobalOptions& g, int top,
+                    std::vector<std::string>* written);
 // `robots [NAME | FILE]`: the built-in robots, or one descriptor and what it offers (robots.cc).
 int CmdRobots(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,

@@ -54,20 +54,20 @@ std::vector<CommandHelp> Build() {
        "Writes OUT/ID-history.json and OUT/ID-fitness.svg and prints the SVG's path.",
        Connection({"out"}), "gaitforge plot analytic-ga-3f09a1 --out figures"},
       {"report", "ID",
-       "caterpillar studies: fitness, gait diagrams, period sweep, travelling\n"
-       "                  wave (paper 000 Figs. 8, 13, 14) and the best gait's markers, "
-       "under --out",
-       "The fitness figure, then by objective: for caterpillar.distance the paper's figures\n"
-       "and the best gait's markers, for caterpillar.calibration the calibration report\n"
+       "a study's figures under --out: the fitness curve, then what its objective\n"
+       "                  and robot offer (calibration report, paper_gait figures)",
+       "The fitness figure, then: for an objective that calibrates a robot the calibration\n"
+       "report; for a gait study whose robot's descriptor lists `figures: [paper_gait]` its\n"
+       "gait diagrams, period sweep, travelling waves and the best gait's markers\n"
        "(docs/cli.md). Prints every file written.",
-       Connection({"out"}), "gaitforge report caterpillar-ga-1c2d3e --out figures"},
+       Connection({"out"}), "gaitforge report paper-ga-1c2d3e --out figures"},
       {"trajectory", "ID --output FILE.csv",
        "markers of a hall-of-fame gait as a recording CSV (--output FILE.csv,\n"
        "                  --rank R, --generation G, --rate HZ, --cycles N)",
        "Simulates the hall-of-fame gait --rank R of the latest generation (or --generation G)\n"
        "and writes its markers m1..m6 in the recording CSV format with a JSON sidecar.",
        Connection({"output", "rank", "generation", "rate", "cycles"}),
-       "gaitforge trajectory caterpillar-ga-1c2d3e --rank 0 --rate 100 --output best.csv"},
+       "gaitforge trajectory paper-ga-1c2d3e --rank 0 --rate 100 --output best.csv"},
       {"diagnose", "SPEC",
        "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
        "                  fit it and show the held-out error fall (docs/diagnosis.md)",

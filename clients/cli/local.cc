@@ -69,16 +69,8 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   if (code == kOk) {
     std::vector<std::string> figures;
     const v1::StudySummary study = Summary(conn, id, g);
-    const std::string& objective = study.spec().objective().name();
-    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk) {
-      if (objective == "caterpillar.distance") {
-        if (!g.json) std::cerr << "drawing the caterpillar paper's figures...\n";
-        CaterpillarReport(conn.study(), study, out_dir, g, 3, &figures);
-      } else if (objective == "caterpillar.calibration") {
-        if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
-        CalibrationReport(conn, study, out_dir, g, &figures);
-      }
-    }
+    if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk)
+      StudyReport(conn, study, out_dir, g, &figures);
     if (!g.json)
       for (const auto& f : figures) std::cerr << "wrote " << f << "\n";
   }

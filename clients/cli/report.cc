@@ -1,6 +1,7 @@
-// `gaitforge report ID` and `gaitforge trajectory ID`: the caterpillar paper's figures and
-// marker exports for a study's best gaits. The coordinator gives the genotypes; the
-// simulations run in gaitforge-sim, the workers' own model build.
+// `gaitforge report ID` and `gaitforge trajectory ID`: a study's figures, chosen by what
+// its objective and robot offer (StudyReport), among them the paper_gait figures and the
+// marker exports of its best gaits. The coordinator gives the genotypes; the simulations
+// run in gaitforge-sim, the workers' own model build.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "robots/registry.h"
 #include "services/core/objective_catalog.h"
 
 namespace gaitforge::cli {
@@ -71,7 +73,7 @@ std::vector<std::string> Concat(std::vector<std::string> a, const std::vector<st
 }
 
 // The model file's timestep, as the objective catalog states it (timestep_ms's default,
-// which the worker takes from robots/caterpillar/robot.yaml).
+// which the worker takes from the robot's descriptor).
 double ModelTimestepS(const std::string& objective) {
   if (const core::ObjectiveInfo* info = core::FindObjective(objective)) {
     for (const auto& p : info->params)
@@ -98,9 +100,9 @@ std::string TimestepCheck(const std::string& sim, const std::string& genes,
 
 }  // namespace
 
-int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
-                      const std::string& out_dir, const GlobalOptions& g, int top,
-                      std::vector<std::string>* written) {
+int PaperGaitReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                    const std::string& out_dir, const GlobalOptions& g, int top,
+                    std::vector<std::string>* written) {
   const std::string& id = study.study_id();
   auto hof = Hof(stub, id, -1, g);
   if (!hof.ok()) return HofError(hof.status(), "report " + id);
@@ -171,8 +173,8 @@ int CaterpillarReport(v1::StudyService::Stub& stub, const v1::StudySummary& stud
   std::ofstream(path) << json;
   written->push_back(path);
   std::string figures;
-  if (RunPlotScript({"caterpillar", "--report", path, "--out-prefix", out_dir + "/" + id}) != 0) {
-    std::cerr << "gaitforge: drawing the caterpillar figures failed\n";
+  if (RunPlotScript({"paper-gait", "--report", path, "--out-prefix", out_dir + "/" + id}) != 0) {
+    std::cerr << "gaitforge: drawing the paper_gait figures failed\n";
     return kFailed;
   }
   for (const char* f : {"-gaits.svg", "-period-sweep.svg", "-wave.svg"})
@@ -213,6 +215,23 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
   return kOk;
 }
 
+int StudyReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
+                const GlobalOptions& g, std::vector<std::string>* written) {
+  const core::ObjectiveInfo* info = core::FindObjective(study.spec().objective().name());
+  if (!info) return kOk;
+  if (!info->calibrates.empty()) {
+    if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
+    return CalibrationReport(conn, study, out_dir, g, written);
+  }
+  const robots::RobotDescriptor* robot =
+      info->gait_robot.empty() ? nullptr : robots::FindRobot(info->gait_robot);
+  if (robot && std::count(robot->figures.begin(), robot->figures.end(), "paper_gait")) {
+    if (!g.json) std::cerr << "drawing the paper_gait figures of " << robot->name << "...\n";
+    return PaperGaitReport(conn.study(), study, out_dir, g, 3, written);
+  }
+  return kOk;
+}
+
 int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
               const std::string& out_dir) {
   if (args.size() != 1) {
@@ -227,11 +246,7 @@ int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
   grpc::Status s = FetchStudy(conn->study(), g, args[0], &study);
   if (!s.ok()) return ReportRpcError(s, "report " + args[0]);
   code = PlotStudy(conn->study(), args[0], out_dir, g, &written);
-  const std::string& objective = study.spec().objective().name();
-  if (code == kOk && objective == "caterpillar.calibration")
-    code = CalibrationReport(*conn, study, out_dir, g, &written);
-  else if (code == kOk && objective == "caterpillar.distance")
-    code = CaterpillarReport(conn->study(), study, out_dir, g, 3, &written);
+  if (code == kOk) code = StudyReport(*conn, study, out_dir, g, &written);
   for (const auto& f : written) std::cout << f << "\n";
   return code;
 }

@@ -3,7 +3,7 @@
 
   fitness      best and mean fitness per generation (with the population's spread) from the
                JSON of `gaitforge history ID --json`.
-  caterpillar  the caterpillar paper's figures from the JSON `gaitforge report` writes:
+  paper-gait   paper 000's gait figures from the JSON `gaitforge report` writes:
                gait diagrams of the best gaits (paper 000 Fig. 8), distance per cycle as
                their period is scaled (Fig. 13), and the travelling-wave baseline (Fig. 14).
   calibration  a calibration study's overlays, errors and distance ratios (`gaitforge report`).
@@ -11,7 +11,7 @@
 
 Usage:
   gaitforge_plot.py fitness --history HISTORY.json --out FILE.svg [--title TEXT]
-  gaitforge_plot.py caterpillar --report REPORT.json --out-prefix PREFIX
+  gaitforge_plot.py paper-gait --report REPORT.json --out-prefix PREFIX
   gaitforge_plot.py calibration --report CALIBRATION.json --out-prefix PREFIX
   gaitforge_plot.py diagnosis --report DIAGNOSIS.json --out FILE.svg
 
@@ -160,7 +160,7 @@ def wave(report, out):
     fig.savefig(out)
 
 
-def caterpillar(args):
+def paper_gait(args):
     with open(args.report) as f:
         report = json.load(f)
     for name, draw in (("gaits", gait_diagrams), ("period-sweep", period_sweep), ("wave", wave)):
@@ -287,10 +287,10 @@ def main():
     f.add_argument("--title", default="fitness per generation")
     f.add_argument("--ylabel", default="fitness (higher is better)")
     f.set_defaults(run=fitness)
-    c = sub.add_parser("caterpillar", help="the caterpillar paper's figures from a report JSON")
+    c = sub.add_parser("paper-gait", help="paper 000's gait figures from a report JSON")
     c.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
     c.add_argument("--out-prefix", required=True, help="files PREFIX-gaits.svg etc.")
-    c.set_defaults(run=caterpillar)
+    c.set_defaults(run=paper_gait)
     k = sub.add_parser("calibration", help="a calibration study's figures from its report JSON")
     k.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
     k.add_argument("--out-prefix", required=True, help="files PREFIX-overlays.svg etc.")

@@ -1,6 +1,7 @@
 // `gaitforge robots` through the real binary: it lists the built-in robots, shows one
 // robot's descriptor as JSON scripts can read, and checks a descriptor file, naming the
 // file, line and field of a mistake with exit code 2.
+#include <algorithm>
 #include <string>
 
 #include "gmock/gmock.h"
@@ -29,11 +30,13 @@ TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
   TempDir dir;
   const std::string bad = dir.path() + "/robot.yaml";
   std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/robots/caterpillar/robot.yaml");
-  text.replace(text.find("{value: 0.030, range: [0.001, 1]"), 13, "{value: -3.0");
+  const size_t at = text.find("{value: 0.030, range: [0.001, 1]");
+  const auto line = std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n'));
+  text.replace(at, 13, "{value: -3.0");
   WriteFile(bad, text);
   auto check = RunCommand(Bin("gaitforge") + " robots " + bad);
   EXPECT_EQ(check.exit_code, 2);
-  EXPECT_THAT(check.err, AllOf(HasSubstr(bad + ":16:"),
+  EXPECT_THAT(check.err, AllOf(HasSubstr(bad + ":" + line + ":"),
                                HasSubstr("lumps.mass_kg = -3 kg is outside [0.001, 1] kg")));
 
   auto unknown = RunCommand(Bin("gaitforge") + " robots walker");

@@ -104,6 +104,13 @@ TEST(Descriptor, UnknownFieldNamesTheNearest) {
                     HasSubstr("did you mean calibrate")));
 }
 
+TEST(Descriptor, FiguresMustBeKnownKinds) {
+  EXPECT_THAT(ErrorOf(Edit("model: generic\n", "model: generic\nfigures: [paper_gait, waves]\n")),
+              AllOf(HasSubstr("figures[1]"), HasSubstr("'waves' is not a figure kind"),
+                    HasSubstr("known: paper_gait")));
+  EXPECT_EQ(Robot("caterpillar").figures, std::vector<std::string>{"paper_gait"});
+}
+
 TEST(Descriptor, AKeyWrittenTwiceNamesBothLines) {
   EXPECT_THAT(ErrorOf(Edit("  hinge:\n", "  body:\n")),
               AllOf(HasSubstr("twobox.yaml:8:3: body: written twice"), HasSubstr("line 5")));
