@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "absl/strings/str_cat.h"
+#include "google/protobuf/struct.pb.h"
+#include "google/protobuf/util/json_util.h"
 #include "google/protobuf/util/message_differencer.h"
 #include "services/diagnosis/pipeline.h"
 #include "services/diagnosis/spec.h"
@@ -193,9 +195,10 @@ void Diagnoses::Execute(Run& run, storage::DiagnosisRecord record) {
   if (report.ok()) {
     record.state = "completed";
     record.report = *report;
-    const size_t at = report->find("\"verdict\": \"");
-    if (at != std::string::npos)
-      record.verdict = report->substr(at + 12, report->find('"', at + 12) - at - 12);
+    google::protobuf::Struct parsed;
+    if (google::protobuf::util::JsonStringToMessage(*report, &parsed).ok() &&
+        parsed.fields().count("verdict"))
+      record.verdict = parsed.fields().at("verdict").string_value();
     for (const char* f : kKeptFiles)
       if (std::filesystem::exists(in.dir + "/" + f))
         record.files.emplace_back(f, ReadBytes(in.dir + "/" + f));

@@ -1,6 +1,6 @@
 // What the gap finder needs of a coordinator: to create calibration studies, watch them and
-// read their best fit. A client reaches it over gRPC (GrpcStudies); the coordinator that
-// runs stored diagnoses, in process.
+// read their best fit. The coordinator that runs stored diagnoses gives it in process
+// (services/coordinator/diagnoses.cc); tests give it in memory.
 #pragma once
 
 #include <functional>
