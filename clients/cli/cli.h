@@ -144,7 +144,7 @@ int PaperGaitReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
 // `robots [NAME | FILE]`: the built-in robots, or one descriptor and what it offers (robots.cc).
 int CmdRobots(const GlobalOptions& g, const std::vector<std::string>& args);
 int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
-                 const std::string& sidecar);
+                 const std::string& sidecar, const std::string& robot_file);
 // Uploads every recording the spec names by file path (relative to the spec file) and puts
 // its content hash in its place. Returns an exit code.
 int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::StudySpec* spec,

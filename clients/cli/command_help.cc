@@ -93,8 +93,9 @@ std::vector<CommandHelp> Build() {
        "recording add FILE.csv: upload a recording (+ FILE.csv.json); prints its hash;\n"
        "                  recording list: the stored recordings",
        "add: uploads FILE.csv and its sidecar (FILE.csv.json, or --sidecar F) and prints its\n"
-       "content hash. list: every stored recording.",
-       Connection({"sidecar", "json"}), "gaitforge recording add walk.csv"},
+       "content hash; a recording of a robot that is not built in needs --robot ROBOT.yaml\n"
+       "(its sensors give the channels it may hold). list: every stored recording.",
+       Connection({"sidecar", "robot", "json"}), "gaitforge recording add walk.csv"},
       {"robots", "[NAME | FILE]",
        "the built-in robots; one robot's parameters, genes and channels; a\n"
        "                  descriptor file checked (docs/robots.md)",

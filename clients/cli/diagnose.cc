@@ -5,12 +5,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 
+#include "absl/strings/str_cat.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
 #include "gaitforge/v1/diagnosis.grpc.pb.h"
 #include "services/diagnosis/spec.h"
+#include "services/spec/robot_file.h"
 #include "services/spec/spec_loader.h"
 
 namespace gaitforge::cli {
@@ -26,10 +29,22 @@ int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d) {
   }
   std::stringstream text;
   text << in.rdbuf();
-  if (auto s = spec::ParseMessage(text.str(), path, d, nullptr); !s.ok()) {
+  std::map<std::string, spec::Mark> marks;
+  if (auto s = spec::ParseMessage(text.str(), path, d, &marks); !s.ok()) {
     std::cerr << "gaitforge: " << s.message() << "\n";
     return kUsage;
   }
+  // robot: a descriptor file's path makes the spec carry the descriptor.
+  std::string where = path;
+  if (auto it = marks.find("robot"); it != marks.end())
+    where = absl::StrCat(path, ":", it->second.line, ":", it->second.column);
+  std::string robot = d->robot(), descriptor = d->robot_descriptor();
+  if (auto s = spec::EmbedRobotFile(path, where, "robot", &robot, &descriptor); !s.ok()) {
+    std::cerr << "gaitforge: " << s.message() << "\n";
+    return s.code() == absl::StatusCode::kNotFound ? kNotFound : kUsage;
+  }
+  d->set_robot(robot);
+  d->set_robot_descriptor(descriptor);
   diagnosis::Defaults(d);
   if (auto s = diagnosis::Validate(*d); !s.ok()) {
     std::cerr << "gaitforge: " << path << ": " << s.message() << "\n";
@@ -42,6 +57,7 @@ int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d) {
 int UploadRecordings(Connection& conn, const std::string& spec_path, const GlobalOptions& g,
                      v1::DiagnosisSpec* d) {
   v1::StudySpec carrier;
+  carrier.mutable_objective()->set_robot_descriptor(d->robot_descriptor());
   for (const auto& r : d->training()) carrier.mutable_objective()->add_recordings(r);
   for (const auto& r : d->held_out()) carrier.mutable_objective()->add_held_out(r);
   if (int c = UploadSpecRecordings(conn, spec_path, &carrier, g); c) return c;

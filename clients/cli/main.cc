@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
   flags.Add("out", &out_dir, "plot/report/local: directory for figures");
   flags.Add("output", &output, "trajectory: CSV file to write");
   flags.Add("sidecar", &sidecar, "recording add: the JSON sidecar (default FILE.csv.json)");
+  std::string robot_file;
+  flags.Add("robot", &robot_file,
+            "recording add: the descriptor of the robot the recording names when it is not "
+            "built in (docs/robots.md)");
   flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
   flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
@@ -115,7 +119,7 @@ int main(int argc, char** argv) {
   if (cmd == "diagnosis") return cli::CmdDiagnosis(g, args, out_dir);
   if (cmd == "diagnoses") return cli::CmdDiagnoses(g, args);
   if (cmd == "robots") return cli::CmdRobots(g, args);
-  if (cmd == "recording") return cli::CmdRecording(g, args, sidecar);
+  if (cmd == "recording") return cli::CmdRecording(g, args, sidecar, robot_file);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
   if (cmd == "trajectory")
     return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);

@@ -34,7 +34,8 @@ bool LooksLikeHash(const std::string& s) {
 // Adds FILE.csv with its sidecar (default FILE.csv.json); prints the hash.
 absl::StatusOr<v1::AddRecordingResponse> AddRecording(Connection& conn, const std::string& csv_path,
                                                       const std::string& sidecar_path,
-                                                      const GlobalOptions& g) {
+                                                      const GlobalOptions& g,
+                                                      const std::string& robot_descriptor) {
   v1::AddRecordingRequest req;
   std::string csv, sidecar;
   const std::string side = sidecar_path.empty() ? csv_path + ".json" : sidecar_path;
@@ -46,6 +47,7 @@ absl::StatusOr<v1::AddRecordingResponse> AddRecording(Connection& conn, const st
   req.set_name(std::filesystem::path(csv_path).filename().string());
   req.set_csv(csv);
   req.set_sidecar(sidecar);
+  req.set_robot_descriptor(robot_descriptor);
   auto stub = v1::RecordingService::NewStub(conn.channel());
   grpc::ClientContext ctx;
   SetDeadline(ctx, g.timeout_s);
@@ -75,7 +77,7 @@ int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::Stu
       if (LooksLikeHash(entry)) continue;
       std::filesystem::path p(entry);
       if (p.is_relative()) p = base / p;
-      auto added = AddRecording(conn, p.string(), "", g);
+      auto added = AddRecording(conn, p.string(), "", g, spec->objective().robot_descriptor());
       if (!added.ok()) {
         std::cerr << "gaitforge: " << spec_path << ": recording '" << entry
                   << "': " << added.status().message() << "\n";
@@ -92,18 +94,23 @@ int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::Stu
 }
 
 int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
-                 const std::string& sidecar) {
+                 const std::string& sidecar, const std::string& robot_file) {
   if (args.empty() || (args[0] == "add" && args.size() != 2) ||
       (args[0] == "list" && args.size() != 1) || (args[0] != "add" && args[0] != "list")) {
-    std::cerr << "gaitforge: usage: gaitforge recording add FILE.csv [--sidecar FILE.json] | "
-                 "gaitforge recording list\n";
+    std::cerr << "gaitforge: usage: gaitforge recording add FILE.csv [--sidecar FILE.json] "
+                 "[--robot ROBOT.yaml] | gaitforge recording list\n";
     return kUsage;
+  }
+  std::string descriptor;
+  if (!robot_file.empty() && !ReadAll(robot_file, &descriptor)) {
+    std::cerr << "gaitforge: --robot: cannot read '" << robot_file << "'\n";
+    return kNotFound;
   }
   int code = kOk;
   auto conn = Connect(g, args[0] == "add", &code);
   if (!conn) return code;
   if (args[0] == "add") {
-    auto added = AddRecording(*conn, args[1], sidecar, g);
+    auto added = AddRecording(*conn, args[1], sidecar, g, descriptor);
     if (!added.ok()) {
       return ReportRpcError(grpc::Status(static_cast<grpc::StatusCode>(added.status().code()),
                                          std::string(added.status().message())),

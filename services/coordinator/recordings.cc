@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "absl/strings/str_cat.h"
+#include "robots/registry.h"
 #include "services/recording/recording.h"
 
 namespace gaitforge::coordinator {
@@ -30,7 +31,16 @@ absl::StatusOr<v1::AddRecordingResponse> Recordings::Add(const v1::AddRecordingR
   const std::string name = req.name().empty() ? "recording.csv" : req.name();
   recording::RecordingLimits limits;
   limits.max_bytes = max_bytes_;
-  auto parsed = recording::ParseRecording(req.csv(), req.sidecar(), name, name + ".json", limits);
+  std::shared_ptr<const robots::RobotDescriptor> robot;
+  if (!req.robot_descriptor().empty()) {
+    auto resolved = robots::ResolveRobot("", req.robot_descriptor());
+    if (!resolved.ok())
+      return absl::InvalidArgumentError(
+          absl::StrCat("field 'robot_descriptor': ", resolved.status().message()));
+    robot = *resolved;
+  }
+  auto parsed = recording::ParseRecording(req.csv(), req.sidecar(), name, name + ".json", limits,
+                                          robot.get());
   if (!parsed.ok()) return parsed.status();
   storage::RecordingRecord r;
   r.hash = recording::ContentHash(req.csv(), req.sidecar());

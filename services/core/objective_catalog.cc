@@ -35,6 +35,28 @@ std::vector<ParamInfo> AnalyticParams() {
   };
 }
 
+// The params of every calibration's comparison (workers/objectives/recording_comparison.h).
+std::vector<ParamInfo> ComparisonParams(ParamInfo settle_cycles, ParamInfo timestep_ms) {
+  return {std::move(settle_cycles),
+          {"max_shift_samples", 0, 1000, 10,
+           "largest time shift searched, in samples (shape/stats: period bins, at most half a "
+           "period)",
+           true},
+          std::move(timestep_ms),
+          {"z_weight", 0, 100, 1,
+           "error = stats: weight of the relative z-shape error against the distance error"},
+          {"min_distance_m", 1e-6, 1, 1e-3,
+           "error = stats: floor of |real distance per cycle| in the relative distance error "
+           "(m)"}};
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> ComparisonOptions() {
+  return {{"error", {"shape", "pointwise", "stats"}},
+          {"metric", {"rmse", "mae"}},
+          {"channels", {}},
+          {"weights", {}}};
+}
+
 }  // namespace
 
 const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
@@ -65,6 +87,7 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        {{"set", {}}},
        false,
        "",
+       false,
        {},
        false,
        "caterpillar"},
@@ -73,26 +96,17 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        "-(mean error over the recordings, weighted by the weights option when given) between "
        "recorded and simulated markers (m; relative for error = stats); genes are model "
        "parameters named in bounds, plus nuisance.time_offset_s",
-       {FromRobot("settle_cycles", "simulation.settle_cycles",
-                  "gait cycles from rest (simulated time) left out of the comparison"),
-        {"max_shift_samples", 0, 1000, 10,
-         "largest time shift searched, in samples (shape/stats: period bins, at most half a "
-         "period)",
-         true},
-        FromRobot("timestep_ms", "simulation.timestep_s",
-                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
-        {"z_weight", 0, 100, 1,
-         "error = stats: weight of the relative z-shape error against the distance error"},
-        {"min_distance_m", 1e-6, 1, 1e-3,
-         "error = stats: floor of |real distance per cycle| in the relative distance error (m)"}},
+       ComparisonParams(
+           FromRobot("settle_cycles", "simulation.settle_cycles",
+                     "gait cycles from rest (simulated time) left out of the comparison"),
+           FromRobot("timestep_ms", "simulation.timestep_s",
+                     "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)),
        {},
        0,
-       {{"error", {"shape", "pointwise", "stats"}},
-        {"metric", {"rmse", "mae"}},
-        {"channels", {}},
-        {"weights", {}}},
+       ComparisonOptions(),
        true,
        "caterpillar",
+       true,
        // recording time t corresponds to simulated time t + offset (s)
        {"nuisance.time_offset_s"}},
       {"robot.distance",
@@ -111,7 +125,27 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        {{"set", {}}},
        false,
        "",
+       false,
        {},
+       true},
+      {"robot.calibration",
+       "calibration of any robot whose descriptor has model: generic (objective.robot) against "
+       "recordings of it: fitness = -(mean error over the recordings, weighted by the weights "
+       "option when given) between recorded and simulated channels (m, rad; relative for "
+       "error = stats); genes are the robot's calibratable parameters and scales, the effects "
+       "the generic builder attaches (effect.*, docs/effects.md), and nuisance.time_offset_s",
+       ComparisonParams({"settle_cycles", 0, 20, 1,
+                         "gait cycles from rest left out of the comparison (default: the "
+                         "robot's simulation.settle_cycles)", true},
+                        {"timestep_ms", 0.05, 2, 1,
+                         "ODE timestep in ms (default: the robot's simulation.timestep_s)"}),
+       {},
+       0,
+       ComparisonOptions(),
+       true,
+       "",
+       true,
+       {"nuisance.time_offset_s"},
        true},
   };
   return catalog;

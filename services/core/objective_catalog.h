@@ -40,10 +40,15 @@ struct ObjectiveInfo {
   // A calibration: the genes name calibratable parameters of this built-in robot
   // (robots/<name>/robot.yaml) or one of `nuisance`; empty for other objectives.
   std::string calibrates;
+  // A calibration of objective.robot (with uses_robot): the genes name its calibratable
+  // parameters and scales, effects the builder attaches to its parts (workers/effects), or
+  // one of `nuisance`. True too when `calibrates` names a built-in robot.
+  bool calibration = false;
   // Genes that are parameters of the comparison, not of the model.
   std::vector<std::string> nuisance;
   // Robot-agnostic: objective.robot names the robot (a built-in, or a descriptor the spec
-  // carries), whose controller's genes are the space and whose parameters `set` may change.
+  // carries), whose controller's genes are the space (unless `calibration`) and whose
+  // parameters `set` may change.
   bool uses_robot = false;
   // The built-in robot whose controller the genes drive, when the objective is bound to
   // one (caterpillar.distance: caterpillar); empty otherwise (uses_robot: objective.robot).

@@ -7,13 +7,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <mutex>
 #include <thread>
+
+#include <unistd.h>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "services/core/objective_catalog.h"
 #include "services/core/subprocess.h"
+#include "services/recording/recording.h"
+#include "robots/registry.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
@@ -21,11 +26,38 @@ namespace gaitforge::diagnosis {
 // Numerically irrelevant variants of the model: the canonical caterpillar hops, so these move
 // its travel by tens of percent (../shared/robots/caterpillar.md). Every held-out error is
 // the mean over them, and a discovery must win in the paired comparison across them.
-const std::vector<std::string>& NumericVariants() {
-  static const std::vector<std::string> v = {
+std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
+  static const std::vector<std::string> all = {
       "", "simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
       "simulation.timestep_s=0.00125", "ground.contact_cfm=3e-6", "ground.contact_cfm=3e-5"};
+  auto robot = RobotOf(d);
+  std::vector<std::string> v;
+  for (const std::string& s : all)
+    if (s.empty() || (robot.ok() && (*robot)->FindParameter(s.substr(0, s.find('=')))))
+      v.push_back(s);
   return v;
+}
+
+absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d) {
+  return robots::ResolveRobot(d.robot(), d.robot_descriptor());
+}
+
+std::string RobotFile(const v1::DiagnosisSpec& d) {
+  if (d.robot_descriptor().empty()) return "";
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("gaitforge-robot-" +
+                             recording::ContentHash(d.robot_descriptor(), "").substr(0, 16) +
+                             ".yaml"))
+                               .string();
+  static std::mutex mu;
+  std::lock_guard<std::mutex> lock(mu);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    const std::string tmp = path + "." + std::to_string(::getpid());
+    std::ofstream(tmp, std::ios::binary) << d.robot_descriptor();
+    std::filesystem::rename(tmp, path, ec);
+  }
+  return path;
 }
 
 namespace {
@@ -64,8 +96,13 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
 }
 
 std::string CalibrationObjective(const v1::DiagnosisSpec& d) {
+  if (d.robot_descriptor().empty())
+    for (const auto& o : core::ObjectiveCatalog())
+      if (!o.calibrates.empty() && o.calibrates == d.robot()) return o.name;
+  auto robot = RobotOf(d);
+  if (!robot.ok() || (*robot)->model != "generic") return "";
   for (const auto& o : core::ObjectiveCatalog())
-    if (o.calibrates == d.robot()) return o.name;
+    if (o.calibration && o.uses_robot) return o.name;
   return "";
 }
 
@@ -79,6 +116,10 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
   s.set_generations(100000);
   auto* o = s.mutable_objective();
   o->set_name(CalibrationObjective(d));
+  if (core::FindObjective(o->name())->uses_robot) {
+    o->set_robot(d.robot());
+    o->set_robot_descriptor(d.robot_descriptor());
+  }
   (*o->mutable_options())["error"] = d.error();
   if (!in.weights.empty()) (*o->mutable_options())["weights"] = in.weights;
   for (const auto& h : in.train) o->add_recordings(h);
@@ -106,6 +147,8 @@ std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string
   std::vector<std::string> argv = {core::SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ","), "--options",
                                    "error=" + d.error()};
+  if (const std::string robot = RobotFile(d); !robot.empty())
+    argv.insert(argv.end(), {"--robot", robot});
   std::string set = SetArg(c);
   if (!extra_set.empty()) set += (set.empty() ? "" : ",") + extra_set;
   if (!set.empty()) argv.insert(argv.end(), {"--set", set});
@@ -140,7 +183,7 @@ std::string VariantDir(const std::string& prefix, size_t i) {
 
 std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::string>& files,
                                   const v1::DiagnosisSpec& d, const std::string& prefix) {
-  const auto& variants = NumericVariants();
+  const auto variants = NumericVariants(d);
   std::vector<double> errors(variants.size(), NAN);
   TwoAtATime(variants.size(), [&](size_t i) {
     errors[i] = HeldOutError(c, files, d, prefix.empty() ? "" : VariantDir(prefix, i), variants[i]);
@@ -154,7 +197,7 @@ std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::str
 // an evaluation fails.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
                                  std::vector<double>* floors) {
-  const auto& variants = NumericVariants();
+  const auto variants = NumericVariants(d);
   std::vector<std::vector<double>> e(variants.size());
   for (size_t v = 0; v < variants.size(); ++v) {
     e[v] = FileErrors(Make(d, {}), files, d, "", variants[v]);

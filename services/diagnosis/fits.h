@@ -5,9 +5,12 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "absl/status/statusor.h"
+#include "robots/descriptor.h"
 #include "services/diagnosis/decision.h"
 #include "gaitforge/v1/diagnosis.pb.h"
 #include "gaitforge/v1/study.pb.h"
@@ -27,8 +30,16 @@ struct Candidate : FitScore {
   int k = 0;                          // fitted parameters (nuisances included)
 };
 
-// Numerically irrelevant variants of the model ("" is the model as fitted).
-const std::vector<std::string>& NumericVariants();
+// Numerically irrelevant variants of the model ("" is the model as fitted): other
+// timesteps and contact softnesses, those of them whose parameter d's robot has.
+std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d);
+
+// d's robot: a built-in robot, or the descriptor the spec carries.
+absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d);
+
+// A file holding d's descriptor, for gaitforge-sim --robot (in the temporary directory,
+// named by the content's hash); "" for a built-in robot.
+std::string RobotFile(const v1::DiagnosisSpec& d);
 
 // The candidate with these effects: its genes (base parameters, effect parameters, time
 // offset), start point and parameter count.
@@ -40,8 +51,9 @@ struct StudyInputs {
   std::string weights;  // the calibration objective's `weights` option; "" weighs alike
 };
 
-// The calibration objective of d's robot: the catalog's objective that calibrates it.
-// Empty when the robot has none (Validate refuses such a spec).
+// The calibration objective of d's robot: the catalog's objective that calibrates it, or
+// robot.calibration for a robot on the generic builder. Empty when the robot has none
+// (Validate refuses such a spec).
 std::string CalibrationObjective(const v1::DiagnosisSpec& d);
 
 // The calibration study that fits c.

@@ -27,23 +27,25 @@ std::string ReadFile(const std::string& path) {
   return text.str();
 }
 
-// The gait period of the command a recording holds (its robot's controller kind), 1 s when
-// the robot or its kind is unknown.
-double GaitPeriod(const recording::Recording& rec) {
-  const auto* robot = robots::FindRobot(rec.meta.robot);
-  const auto* kind = robot ? robots::FindControllerKind(robot->controller.kind) : nullptr;
+// The gait period of the command a recording of `robot` holds (its controller kind).
+double GaitPeriod(const robots::RobotDescriptor& robot, const recording::Recording& rec) {
+  const auto* kind = robots::FindControllerKind(robot.controller.kind);
   return kind && kind->period_s ? kind->period_s(rec.meta.genes) : 1.0;
 }
 
 // The compared samples of the training recordings: period bins (or samples, for the
 // pointwise error) times channels.
 absl::Status CountSamples(RunState& s) {
+  auto robot = RobotOf(s.d);
+  if (!robot.ok()) return robot.status();
   for (const auto& f : s.in.train_files) {
-    auto rec = recording::ParseRecording(ReadFile(f), ReadFile(f + ".json"), f, f + ".json");
+    auto rec = recording::ParseRecording(ReadFile(f), ReadFile(f + ".json"), f, f + ".json", {},
+                                         robot->get());
     if (!rec.ok()) return rec.status();
-    const int64_t bins = s.d.error() == "pointwise"
-                             ? static_cast<int64_t>(rec->t.size())
-                             : std::max<int64_t>(1, std::llround(GaitPeriod(*rec) / rec->dt));
+    const int64_t bins =
+        s.d.error() == "pointwise"
+            ? static_cast<int64_t>(rec->t.size())
+            : std::max<int64_t>(1, std::llround(GaitPeriod(**robot, *rec) / rec->dt));
     s.n += bins * static_cast<int64_t>(rec->channels.size());
   }
   return absl::OkStatus();
@@ -190,11 +192,17 @@ void WriteCorrected(RunState& s) {
     if (w.genes[i].name().rfind("nuisance.", 0) != 0)
       set.push_back(absl::StrFormat("%s=%.9g", w.genes[i].name(), w.values[i]));
   s.corrected = s.in.dir + "/corrected-model.yaml";
-  std::ofstream(s.corrected)
-      << "# The " << s.d.robot() << " model with the effect the gap finder found (" << w.label
-      << "),\n# ready for new gait studies: use this objective section in a study spec.\n"
-      << "objective:\n  name: " << s.d.robot() << ".distance\n  options:\n    set: \""
-      << absl::StrJoin(set, ",") << "\"\n";
+  std::ofstream out(s.corrected);
+  out << "# The " << s.d.robot() << " model with the effect the gap finder found (" << w.label
+      << "),\n# ready for new gait studies: use this objective section in a study spec.\n";
+  if (s.d.robot_descriptor().empty()) {
+    out << "objective:\n  name: " << s.d.robot() << ".distance\n";
+  } else {
+    // The robot's descriptor beside it; the study spec names it relative to itself.
+    std::ofstream(s.in.dir + "/robot.yaml", std::ios::binary) << s.d.robot_descriptor();
+    out << "objective:\n  name: robot.distance\n  robot: robot.yaml  # beside this file\n";
+  }
+  out << "  options:\n    set: \"" << absl::StrJoin(set, ",") << "\"\n";
 }
 
 }  // namespace

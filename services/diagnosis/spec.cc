@@ -13,13 +13,17 @@
 namespace gaitforge::diagnosis {
 
 absl::Status Validate(const v1::DiagnosisSpec& d) {
+  auto robot = RobotOf(d);
+  if (!robot.ok() && !d.robot_descriptor().empty())
+    return absl::InvalidArgumentError(absl::StrCat("field 'robot': ", robot.status().message()));
   if (CalibrationObjective(d).empty()) {
     std::vector<std::string> known;
     for (const auto& o : core::ObjectiveCatalog())
       if (!o.calibrates.empty()) known.push_back(o.calibrates);
     return absl::InvalidArgumentError(absl::StrCat(
-        "field 'robot': '", d.robot(), "' is not a robot gaitforge can diagnose (known: ",
-        absl::StrJoin(known, ", "), ")"));
+        "field 'robot': '", d.robot(), "' is not a robot gaitforge can diagnose (built in: ",
+        absl::StrJoin(known, ", "),
+        "; or a descriptor file of a robot on the generic builder, docs/robots.md)"));
   }
   if (d.training_size() == 0)
     return absl::InvalidArgumentError("field 'training': at least one recording is required");
@@ -32,6 +36,10 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
       return absl::InvalidArgumentError(absl::StrCat(
           "field 'candidates[", i, "]': '", d.candidates(i),
           "' is not a fittable effect (docs/effects.md lists them)"));
+    if (std::string why = effects::WhyNotApplicable(*e, **robot); !why.empty())
+      return absl::InvalidArgumentError(absl::StrCat("field 'candidates[", i, "]': '",
+                                                     d.candidates(i), "' cannot be fitted on ",
+                                                     (*robot)->name, ": ", why));
   }
   for (int i = 0; i < d.base_parameters_size(); ++i) {
     const auto& b = d.base_parameters(i);
@@ -41,6 +49,10 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   }
   if (d.time_offset_range_s() < 0 || d.time_offset_range_s() > 1)
     return absl::InvalidArgumentError("field 'time_offset_range_s': out of range [0, 1] s");
+  if (d.base_parameters_size() == 0 && d.time_offset_range_s() == 0)
+    return absl::InvalidArgumentError(
+        "fields 'base_parameters' and 'time_offset_range_s': the baseline would fit nothing; "
+        "name an uncertain parameter or let the time offset be fitted (> 0 s)");
   if (d.screening_evaluations() < 8 || d.full_evaluations() < 8)
     return absl::InvalidArgumentError(
         "fields 'screening_evaluations' and 'full_evaluations': at least 8");
@@ -67,9 +79,10 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (d->error().empty()) d->set_error("shape");
   if (d->weighting().empty()) d->set_weighting("floor");
   if (!d->has_margin()) d->set_margin(10);
-  if (d->candidates_size() == 0)
+  auto robot = RobotOf(*d);
+  if (d->candidates_size() == 0 && robot.ok())
     for (const auto& e : effects::EffectCatalog())
-      if (!e.params.empty()) d->add_candidates(e.id);
+      if (effects::WhyNotApplicable(e, **robot).empty()) d->add_candidates(e.id);
 }
 
 }  // namespace gaitforge::diagnosis

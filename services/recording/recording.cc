@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -20,24 +21,25 @@ namespace gaitforge::recording {
 
 namespace internal {
 
-// The robots a recording may describe: the built-in descriptors (robots/registry.h), whose
-// sensors give the channels and whose controller gives the genes of a "gait" command.
+RobotInfo InfoOf(const robots::RobotDescriptor& d) {
+  RobotInfo info;
+  info.name = d.name;
+  info.channels = d.Channels();
+  info.gene_count = static_cast<int>(d.controller.genes.size());
+  std::vector<std::string> genes;
+  for (const auto& g : d.controller.genes) genes.push_back(g.name);
+  info.gene_names = absl::StrJoin(genes, " ");
+  info.markers = d.MarkerCount();
+  info.marker_pitch_m = d.MarkerSpacing();
+  return info;
+}
+
+// The built-in robots (robots/registry.h), whose sensors give the channels and whose
+// controller gives the genes of a "gait" command.
 const RobotInfo* FindRobot(std::string_view name) {
   static const std::vector<RobotInfo>* robots = [] {
     auto* v = new std::vector<RobotInfo>;
-    for (const std::string& n : robots::RobotNames()) {
-      const robots::RobotDescriptor& d = robots::Robot(n);
-      RobotInfo info;
-      info.name = d.name;
-      info.channels = d.Channels();
-      info.gene_count = static_cast<int>(d.controller.genes.size());
-      std::vector<std::string> genes;
-      for (const auto& g : d.controller.genes) genes.push_back(g.name);
-      info.gene_names = absl::StrJoin(genes, " ");
-      info.markers = d.MarkerCount();
-      info.marker_pitch_m = d.MarkerSpacing();
-      v->push_back(std::move(info));
-    }
+    for (const std::string& n : robots::RobotNames()) v->push_back(InfoOf(robots::Robot(n)));
     return v;
   }();
   for (const auto& r : *robots)
@@ -401,13 +403,16 @@ int Recording::ChannelIndex(std::string_view name) const {
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
                                          const std::string& csv_name,
                                          const std::string& sidecar_name,
-                                         const RecordingLimits& limits) {
+                                         const RecordingLimits& limits,
+                                         const robots::RobotDescriptor* robot) {
   const size_t total = csv.size() + sidecar.size();
   if (total > limits.max_bytes)
     return Err(csv_name, 0, 0,
                absl::StrCat("recording is ", total, " bytes (CSV ", csv.size(), " + sidecar ",
                             sidecar.size(), "), over the limit of ", limits.max_bytes, " bytes"));
-  auto side = internal::ParseSidecar(sidecar, sidecar_name);
+  std::optional<internal::RobotInfo> given;
+  if (robot) given = internal::InfoOf(*robot);
+  auto side = internal::ParseSidecar(sidecar, sidecar_name, given ? &*given : nullptr);
   if (!side.ok()) return side.status();
 
   Recording rec;

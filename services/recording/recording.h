@@ -11,6 +11,10 @@
 
 #include "absl/status/statusor.h"
 
+namespace gaitforge::robots {
+struct RobotDescriptor;
+}
+
 namespace gaitforge::recording {
 
 // What the sidecar says.
@@ -55,10 +59,13 @@ struct RecordingLimits {
 // tolerance, an unknown robot or channel, a file over the size limit, a sidecar that is not
 // JSON or lacks required keys, marker positions in mm or cm or with x reversed (from the
 // markers' spacing). Empty or NaN channel cells are missing samples, bridged.
+// `robot`, when given, is a robot of the caller's (a descriptor a study carries) that the
+// sidecar may name besides the built-in ones; its sensors give the channels.
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
                                          const std::string& csv_name,
                                          const std::string& sidecar_name,
-                                         const RecordingLimits& limits = {});
+                                         const RecordingLimits& limits = {},
+                                         const robots::RobotDescriptor* robot = nullptr);
 
 // Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
 std::string ContentHash(std::string_view csv, std::string_view sidecar);

@@ -8,6 +8,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "robots/descriptor.h"
 #include "services/recording/recording.h"
 
 namespace gaitforge::recording::internal {
@@ -24,7 +25,9 @@ struct RobotInfo {
   double marker_pitch_m = 0;
 };
 
-const RobotInfo* FindRobot(std::string_view name);  // nullptr when unknown
+// What a recording of robot d may hold: its sensors' channels, its controller's genes.
+RobotInfo InfoOf(const robots::RobotDescriptor& d);
+const RobotInfo* FindRobot(std::string_view name);  // a built-in robot; nullptr when unknown
 std::string KnownRobots();                          // "caterpillar"
 
 // The unit a channel's values are in: "rad" for "<joint>.angle", "m" otherwise (markers).
@@ -52,8 +55,10 @@ struct Sidecar {
 // Strict JSON (RFC 8259) syntax check; errors as NAME:LINE:COLUMN: not valid JSON: ...
 absl::Status CheckJsonSyntax(std::string_view text, const std::string& name);
 
-// Parses and validates the sidecar (docs/recording-format.md, "Sidecar").
-absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name);
+// Parses and validates the sidecar (docs/recording-format.md, "Sidecar"); `robot`, when
+// given, is the robot a sidecar of that name describes (before the built-in ones).
+absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name,
+                                     const RobotInfo* robot = nullptr);
 
 // Catches the two usual export mistakes in marker positions, from the spacing of adjacent
 // markers along x (median over the recording): a file in millimetres or centimetres, and an

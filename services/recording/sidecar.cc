@@ -208,6 +208,7 @@ class JsonChecker {
 
   std::string_view s_;
   const std::string& name_;
+  const RobotInfo* given_;
   size_t i_ = 0;
   int line_ = 1, col_ = 1;
 };
@@ -215,7 +216,7 @@ class JsonChecker {
 // Walks the yaml-cpp tree of a syntactically valid JSON sidecar.
 class SidecarReader {
  public:
-  explicit SidecarReader(const std::string& name) : name_(name) {}
+  SidecarReader(const std::string& name, const RobotInfo* given) : name_(name), given_(given) {}
 
   absl::StatusOr<Sidecar> Read(const YAML::Node& root) {
     Sidecar out;
@@ -230,10 +231,13 @@ class SidecarReader {
     auto robot = Require(root, top, "", "robot");
     if (!robot.ok()) return robot.status();
     if (auto st = String(*robot, "robot", &out.meta.robot); !st.ok()) return st;
-    out.robot = FindRobot(out.meta.robot);
+    out.robot = given_ && given_->name == out.meta.robot ? given_ : FindRobot(out.meta.robot);
     if (!out.robot)
       return Error(*robot, absl::StrCat("unknown robot '", Quote(out.meta.robot),
-                                        "' (known: ", KnownRobots(), ")"));
+                                        "' (built in: ", KnownRobots(),
+                                        given_ ? absl::StrCat("; the descriptor given: ", given_->name)
+                                               : "; another robot's recording needs its descriptor",
+                                        ")"));
 
     if (auto st = OptionalString(top, "parameters", &out.meta.parameters); !st.ok()) return st;
     if (auto st = OptionalString(top, "source", &out.meta.source); !st.ok()) return st;
@@ -386,6 +390,7 @@ class SidecarReader {
   }
 
   const std::string& name_;
+  const RobotInfo* given_;
 };
 
 }  // namespace
@@ -394,7 +399,8 @@ absl::Status CheckJsonSyntax(std::string_view text, const std::string& name) {
   return JsonChecker(text, name).Check();
 }
 
-absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name) {
+absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& name,
+                                     const RobotInfo* robot) {
   text = StripBom(text);
   if (auto st = CheckJsonSyntax(text, name); !st.ok()) return st;
   YAML::Node root;
@@ -408,7 +414,7 @@ absl::StatusOr<Sidecar> ParseSidecar(std::string_view text, const std::string& n
   if (!root.IsMap())
     return absl::InvalidArgumentError(absl::StrCat(name, ":1:1: expected a JSON object"));
   try {
-    return SidecarReader(name).Read(root);
+    return SidecarReader(name, robot).Read(root);
   } catch (const YAML::Exception& e) {
     return absl::InvalidArgumentError(absl::StrCat(name, ": ", e.what()));
   }

@@ -15,4 +15,11 @@ bool LooksLikeRobotPath(const std::string& robot);
 // or bad file is an error naming the spec's line and the descriptor's own file:line.
 absl::Status EmbedRobotFile(LoadedSpec& loaded);
 
+// The same for any spec: `robot` (the field `field`, written at `where`: "spec.yaml:3:8")
+// names a file relative to the spec file `source`; then `robot` becomes the robot's name and
+// `descriptor` the file's text.
+absl::Status EmbedRobotFile(const std::string& source, const std::string& where,
+                            const std::string& field, std::string* robot,
+                            std::string* descriptor);
+
 }  // namespace gaitforge::spec

@@ -1,15 +1,16 @@
 #include "services/spec/spec_validation.h"
 
-#include <cmath>
-#include <string>
 #include <algorithm>
+#include <cmath>
 #include <set>
+#include <string>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "robots/registry.h"
 #include "services/core/objective_catalog.h"
 #include "services/spec/engine_kinds.h"
+#include "workers/effects/effects.h"
 
 namespace gaitforge::spec {
 
@@ -24,7 +25,7 @@ void ApplyDefaults(StudySpec* spec) {
   if (spec->bounds_size() == 0) {
     if (const auto* info = core::FindObjective(spec->objective().name())) {
       std::vector<core::GeneRange> space = info->default_space;
-      if (info->uses_robot) {
+      if (info->uses_robot && !info->calibration) {
         auto robot = robots::ResolveRobot(spec->objective().robot(),
                                           spec->objective().robot_descriptor());
         if (robot.ok()) space = core::GeneSpaceOf(**robot);  // else Validate says why
@@ -51,27 +52,32 @@ namespace {
 // A calibration's genes must name the robot's calibratable parameters (or the objective's
 // nuisance parameters): a misspelt name would otherwise make every member invalid.
 void ValidateCalibrationGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
-                              std::vector<FieldError>& e) {
-  const robots::RobotDescriptor* robot = robots::FindRobot(info.calibrates);
-  if (robot == nullptr) return;
-  std::vector<std::string> known = robot->CalibratableNames();
+                              const robots::RobotDescriptor& robot, std::vector<FieldError>& e) {
+  std::vector<std::string> known = effects::FittableNames(robot);
   known.insert(known.end(), info.nuisance.begin(), info.nuisance.end());
   for (int i = 0; i < spec.bounds_size(); ++i) {
     const std::string& name = spec.bounds(i).name();
     if (std::find(known.begin(), known.end(), name) != known.end()) continue;
     e.push_back({absl::StrCat("bounds[", i, "].name"),
                  absl::StrCat("'", name, "' is not a calibratable parameter of the ",
-                              robot->name, "; nearest: ",
+                              robot.name, "; nearest: ",
                               absl::StrJoin(robots::Nearest(name, known), ", "),
-                              " (all: docs/calibration.md, or robots/", robot->name,
-                              "/robot.yaml's parameters marked calibrate and its scales)")});
+                              robots::FindRobot(robot.name) == &robot
+                                  ? absl::StrCat(" (all: docs/calibration.md, or robots/",
+                                                 robot.name,
+                                                 "/robot.yaml's parameters marked calibrate "
+                                                 "and its scales)")
+                                  : " (all: the descriptor's parameters marked calibrate, its "
+                                    "scales, and the effects docs/effects.md attaches to its "
+                                    "parts)")});
   }
 }
 
 // A robot-agnostic objective's robot must resolve to a generic model, and the genes must be
-// its controller's, in order.
+// its controller's, in order (a calibration's: its calibratable names).
 // False when the robot itself is wrong: errors about the genes would only follow from it.
-bool ValidateRobotGenes(const StudySpec& spec, std::vector<FieldError>& e) {
+bool ValidateRobotGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
+                        std::vector<FieldError>& e) {
   const auto& o = spec.objective();
   if (o.robot().empty() && o.robot_descriptor().empty()) {
     e.push_back({"objective.robot", absl::StrCat("is required for ", o.name(),
@@ -89,9 +95,14 @@ bool ValidateRobotGenes(const StudySpec& spec, std::vector<FieldError>& e) {
   if (d.model != "generic") {
     e.push_back({"objective.robot",
                  absl::StrCat("robot '", d.name, "' has model '", d.model, "'; ", o.name(),
-                              " simulates model: generic robots (the caterpillar: "
-                              "caterpillar.distance)")});
+                              " simulates model: generic robots (the caterpillar: ",
+                              info.calibration ? "caterpillar.calibration" : "caterpillar.distance",
+                              ")")});
     return false;
+  }
+  if (info.calibration) {
+    ValidateCalibrationGenes(spec, info, d, e);
+    return true;
   }
   const auto& genes = d.controller.genes;
   if (spec.bounds_size() != static_cast<int>(genes.size())) {
@@ -180,8 +191,9 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
     for (int i = 0; i < spec.objective().held_out_size(); ++i)
       if (spec.objective().held_out(i).empty())
         add(absl::StrCat("objective.held_out[", i, "]"), "is empty");
-    if (!info->calibrates.empty()) ValidateCalibrationGenes(spec, *info, e);
-    if (info->uses_robot) robot_ok = ValidateRobotGenes(spec, e);
+    if (const auto* robot = robots::FindRobot(info->calibrates))
+      ValidateCalibrationGenes(spec, *info, *robot, e);
+    if (info->uses_robot) robot_ok = ValidateRobotGenes(spec, *info, e);
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));

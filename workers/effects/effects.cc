@@ -1,5 +1,7 @@
 #include "workers/effects/effects.h"
 
+#include <algorithm>
+
 namespace gaitforge::effects {
 
 const std::vector<EffectInfo>& EffectCatalog() {
@@ -18,7 +20,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Run the same gait towards the hose supply and away from it (paper 000's qualitative "
        "test) or with the hoses supported overhead: a tether deficit flips or vanishes with "
        "the hoses' direction, slope flips with the track's direction, friction and actuator "
-       "effects do neither. A force gauge on the hoses of the resting robot measures F."},
+       "effects do neither. A force gauge on the hoses of the resting robot measures F.",
+       "tether_body"},
       {"tether.growing",
        "Hose tether, growing with travel",
        "Hoses drawn out as the robot moves away from the supply: a backward pull on lump 1 "
@@ -30,7 +33,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "tether gives the same deficit in every cycle.)",
        "Compare the first and last cycles of a long run, or start the same gait at "
        "different distances from the hose supply: a growing tether slows the robot with the "
-       "distance travelled, a constant one does not."},
+       "distance travelled, a constant one does not.",
+       "tether_body"},
       {"ground.slope",
        "Ground slope",
        "The test track is not level: gravity tilted about y by the slope s, "
@@ -40,7 +44,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "largest for gaits with much airborne time or sliding; with finite friction the "
        "resting robot creeps downhill.",
        "Run the gait both ways along the same track: a slope changes sign with the heading "
-       "(a tether follows the hoses instead); or measure the track with an inclinometer."},
+       "(a tether follows the hoses instead); or measure the track with an inclinometer.",
+       "ground"},
       {"friction.viscous",
        "Viscous drag",
        "A velocity-proportional resistance on every lump (air, adhesion and hysteresis of "
@@ -51,7 +56,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "lower, shorter hops (smaller z amplitude), motion after each switch dying out sooner.",
        "A period sweep of one gait: drag costs travel roughly in proportion to speed, a "
        "tether a constant amount per cycle; or drag the passive robot at two speeds with a "
-       "force gauge."},
+       "force gauge.",
+       "every_body"},
       {"friction.anisotropic",
        "Finite, direction-dependent friction",
        "Finite Coulomb friction of the feet with one coefficient for sliding forward and "
@@ -64,7 +70,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "reverses); easy forward slip changes how much of each stroke becomes travel.",
        "Inclined-plane test (paper 001): tilt the passive robot until it slides, facing "
        "uphill and facing downhill; tan of each critical angle is the backward and the "
-       "forward coefficient. A pull test with a force gauge in each direction does the same."},
+       "forward coefficient. A pull test with a force gauge in each direction does the same.",
+       "ground"},
       {"actuator.lag",
        "Actuator force lag",
        "The pistons build and release pressure gradually: each actuator's push follows its "
@@ -88,7 +95,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Record the valve command together with an actuator's markers: a delay is a constant "
        "time between command and start of motion with an unchanged rise. A recording that "
        "starts at the first command tells it from a clock offset (nuisance.time_offset_s): "
-       "only the delay keeps the robot still for d after the start."},
+       "only the delay keeps the robot still for d after the start.",
+       "actuators"},
       {"actuator.force_scale",
        "Actuator force",
        "The piston force differs from the paper's 8.8 N (supply pressure, leaks, piston "
@@ -194,6 +202,49 @@ const std::vector<EffectInfo>& EffectCatalog() {
 const EffectInfo* FindEffect(std::string_view id) {
   for (const EffectInfo& e : EffectCatalog()) {
     if (e.id == id) return &e;
+  }
+  return nullptr;
+}
+
+bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
+  if (d.model != "generic") return false;
+  if (part == "tether_body" || part == "every_body") return !d.bodies.empty();
+  if (part == "ground") return d.ground.has_value();
+  if (part == "actuators") return !d.actuators.empty();
+  return false;
+}
+
+std::string WhyNotApplicable(const EffectInfo& e, const robots::RobotDescriptor& d) {
+  if (e.params.empty()) return "it has no parameter to fit";
+  const std::vector<std::string> own = d.CalibratableNames();
+  for (const auto& p : e.params) {
+    if (std::find(own.begin(), own.end(), p.name) != own.end()) continue;
+    if (!e.attaches.empty() && HasPart(d, e.attaches)) continue;
+    if (!e.attaches.empty())
+      return d.model == "generic"
+                 ? "it attaches to " + e.attaches + ", which " + d.name + " lacks"
+                 : "it attaches to " + e.attaches + " through the generic builder, and " +
+                       d.name + "'s model (" + d.model + ") has no " + p.name;
+    return d.name + " has no calibratable " + p.name;
+  }
+  return "";
+}
+
+std::vector<std::string> FittableNames(const robots::RobotDescriptor& d) {
+  std::vector<std::string> names = d.CalibratableNames();
+  for (const EffectInfo& e : EffectCatalog()) {
+    if (e.attaches.empty() || !HasPart(d, e.attaches)) continue;
+    for (const auto& p : e.params)
+      if (std::find(names.begin(), names.end(), p.name) == names.end()) names.push_back(p.name);
+  }
+  return names;
+}
+
+const EffectInfo::Param* BuilderParam(std::string_view name, const robots::RobotDescriptor& d) {
+  for (const EffectInfo& e : EffectCatalog()) {
+    if (e.attaches.empty() || !HasPart(d, e.attaches)) continue;
+    for (const auto& p : e.params)
+      if (p.name == name) return &p;
   }
   return nullptr;
 }

@@ -6,7 +6,12 @@
 // machinery ("caterpillar.calibration") can fit them; the model side of the effect.* names
 // is CaterpillarParams::Effects (caterpillar_params.h) applied in CaterpillarSim.
 //
-// Pure data: this library does not depend on the model or on ODE.
+// Pure data: this library does not depend on a model or on ODE (only on robots/).
+//
+// Where an effect applies: its parameters are either a robot's own (a calibratable
+// parameter or scale of its descriptor: actuators.force_n, scale.mass; the caterpillar's
+// effect.* parameters) or, for an effect that declares the part it `attaches` to, parameters
+// the generic builder (workers/models/generic/) adds to any robot with that part.
 //
 // Ids are stable (a study or report may store them):
 //   tether.constant tether.growing ground.slope friction.viscous friction.anisotropic
@@ -15,6 +20,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "robots/descriptor.h"
 
 namespace gaitforge::effects {
 
@@ -34,11 +41,36 @@ struct EffectInfo {
   std::vector<Param> params;  // empty: not available as a fitted effect
   std::string where;          // the residual pattern it explains, in words
   std::string experiment;     // an experiment that tells it apart from similar effects
+  // The part the generic builder attaches it to (kParts); empty: not a builder effect.
+  std::string attaches = {};
 };
+
+// The parts an effect may attach to, and what each means on a generic robot:
+//   tether_body  the descriptor's first body (by convention its rear), pulled at its centre
+//   every_body   every body, at its centre
+//   ground       the ground contacts
+//   actuators    every actuator's command
+inline const std::vector<std::string> kParts = {"tether_body", "every_body", "ground",
+                                                "actuators"};
 
 // Every effect, in the order of the ids above.
 const std::vector<EffectInfo>& EffectCatalog();
 // The effect with this id, or nullptr.
 const EffectInfo* FindEffect(std::string_view id);
+
+// Whether robot d has the part (kParts) and a model that attaches effects to it (generic).
+bool HasPart(const robots::RobotDescriptor& d, std::string_view part);
+
+// "" when every parameter of `e` is one robot d's model takes: a calibratable name of its
+// descriptor, or a builder effect's parameter on a part d has; otherwise why not, in words.
+std::string WhyNotApplicable(const EffectInfo& e, const robots::RobotDescriptor& d);
+
+// What a calibration of robot d may fit: its calibratable names (parameters, then scales),
+// then the parameters of builder effects on parts it has.
+std::vector<std::string> FittableNames(const robots::RobotDescriptor& d);
+
+// The builder-effect parameter `name` (effect.*) when some effect attaching to a part that
+// robot d has takes it; nullptr otherwise.
+const EffectInfo::Param* BuilderParam(std::string_view name, const robots::RobotDescriptor& d);
 
 }  // namespace gaitforge::effects

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 
+#include "absl/strings/str_cat.h"
 #include "workers/objectives/analytic.h"
 
 namespace gaitforge::objectives {
@@ -51,6 +52,18 @@ EvalResult EvaluateSafely(const Objective& objective, const EvalInput& input) {
     it = std::isfinite(it->second) ? std::next(it) : r.metrics.erase(it);
   }
   return r;
+}
+
+bool ParamInRange(const EvalInput& in, const char* name, double lo, double hi, double fallback,
+                  bool integer, double& value, std::string& error) {
+  auto it = in.params.find(name);
+  value = it == in.params.end() ? fallback : it->second;
+  if (!(value >= lo && value <= hi) || (integer && value != std::floor(value))) {
+    error = absl::StrCat("param ", name, " = ", value, " is outside [", lo, ", ", hi, "]",
+                         integer ? " (a whole number)" : "");
+    return false;
+  }
+  return true;
 }
 
 }  // namespace gaitforge::objectives

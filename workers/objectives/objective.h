@@ -59,4 +59,9 @@ ObjectiveRegistry DefaultRegistry();
 // Runs an objective, turning exceptions and non-finite fitness into invalid results.
 EvalResult EvaluateSafely(const Objective& objective, const EvalInput& input);
 
+// The numeric param `name` of `input`, `fallback` when absent; false (with the error "param
+// NAME = V is outside [LO, HI]") when outside [lo, hi] or, for `integer`, not whole.
+bool ParamInRange(const EvalInput& input, const char* name, double lo, double hi, double fallback,
+                  bool integer, double& value, std::string& error);
+
 }  // namespace gaitforge::objectives

@@ -5,16 +5,99 @@
 //   calibration-eval  errors of the model (with --set overrides) against recordings, and
 //                 the simulated markers of each recording's gait, for calibration reports
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "robots/registry.h"
 
 #include "services/core/flags.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
 #include "workers/sim/ode_runtime.h"
 #include "workers/models/caterpillar/param_overrides.h"
+#include "workers/tools/generic_sim.h"
 #include "workers/tools/sim_tool.h"
 
 using namespace gaitforge;
+
+namespace {
+
+// The descriptor a --robot names: a file's text, or a built-in robot's.
+absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string& arg) {
+  if (std::filesystem::is_regular_file(arg)) {
+    std::ifstream in(arg, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    return std::make_pair(arg, text.str());
+  }
+  if (robots::FindRobot(arg) == nullptr)
+    return absl::NotFoundError(absl::StrCat("--robot ", arg,
+                                            ": neither a descriptor file nor a built-in robot"));
+  return std::make_pair(std::string(), std::string(robots::BuiltinText(arg)));
+}
+
+// trajectory and calibration-eval of a robot on the generic builder; an exit code.
+int RunGenericCommand(const std::string& cmd, const std::string& robot_arg,
+                      const std::string& genes_text, const std::string& out,
+                      const std::string& set_text, const std::string& recordings,
+                      const std::string& options_text, const std::string& params_text,
+                      const std::string& out_dir, double rate, int cycles, int settle) {
+  auto fail = [](const absl::Status& s, int code) {
+    std::cerr << "gaitforge-sim: " << s.message() << "\n";
+    return code;
+  };
+  auto text = RobotText(robot_arg);
+  if (!text.ok()) return fail(text.status(), 2);
+  auto robot = robots::ResolveRobot("", text->second);
+  if (!robot.ok()) return fail(robot.status(), 2);
+  if ((*robot)->model != "generic")
+    return fail(absl::InvalidArgumentError(absl::StrCat(
+                    "--robot ", robot_arg, " has model ", (*robot)->model,
+                    "; --robot takes robots on the generic builder (the caterpillar: no --robot)")),
+                2);
+  if (cmd != "trajectory" && cmd != "calibration-eval")
+    return fail(absl::InvalidArgumentError(cmd + " is the caterpillar's; with --robot: "
+                                                 "trajectory or calibration-eval"), 2);
+  simtool::GenericRun run;
+  run.robot = robot->get();
+  run.robot_path = text->first;
+  run.robot_text = text->second;
+  run.rate_hz = rate;
+  run.cycles = cycles;
+  run.settle_cycles = settle;
+  const double h = run.robot->Value("simulation.timestep_s");
+  const double steps = 1.0 / (rate * h);
+  if (!(rate > 0) || std::abs(steps - std::round(steps)) > 1e-9 || std::round(steps) < 1)
+    return fail(absl::InvalidArgumentError(absl::StrCat(
+                    "--rate ", rate, " Hz is not a whole number of ", h, " s steps")), 2);
+  auto overrides = simtool::ParseOverrides(set_text);
+  if (!overrides.ok()) return fail(overrides.status(), 2);
+  run.overrides = *overrides;
+  sim::InitProcess();
+  if (cmd == "trajectory") {
+    auto genes = simtool::ParseGenes(genes_text, run.robot->controller.genes.size());
+    if (!genes.ok()) return fail(genes.status(), 2);
+    if (out.empty()) return fail(absl::InvalidArgumentError("trajectory needs --out FILE.csv"), 2);
+    if (auto s = simtool::GenericTrajectory(run, *genes, out); !s.ok())
+      return fail(s, s.code() == absl::StatusCode::kAborted ? 1 : 2);
+    std::cout << out << "\n";
+    return 0;
+  }
+  auto opts = simtool::ParseOptions(options_text);
+  if (!opts.ok()) return fail(opts.status(), 2);
+  auto pars = simtool::ParseOverrides(params_text);
+  if (!pars.ok()) return fail(pars.status(), 2);
+  auto report = simtool::GenericCalibrationEval(
+      run, recordings, *opts, std::map<std::string, double>(pars->begin(), pars->end()), out_dir);
+  if (!report.ok()) return fail(report.status(), 2);
+  std::cout << *report << "\n";
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   std::string params_path;  // empty: the built-in robots/caterpillar/robot.yaml
@@ -26,13 +109,18 @@ int main(int argc, char** argv) {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   core::Flags flags(
       "gaitforge-sim trajectory|period-sweep|wave [flags]",
-      "One-shot simulations of the ODE caterpillar, with the same model build as the workers.\n"
+      "One-shot simulations of the ODE caterpillar, or of any robot on the generic builder\n"
+      "(--robot), with the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: markers m1..m6 as a recording CSV (+ .json)\n"
       "  period-sweep  --genes G: distance per cycle with the period scaled (--scales), JSON\n"
       "  wave          travelling-wave gait over periods (--periods), JSON\n"
       "  calibration-eval  --recordings A.csv,B.csv [--set ...]: the calibration objective's\n"
       "                errors against recordings, and the simulated markers (--out-dir), JSON");
   flags.Add("params", &params_path, "caterpillar descriptor file (a copy of robots/caterpillar/robot.yaml)");
+  std::string robot_arg;
+  flags.Add("robot", &robot_arg,
+            "a robot on the generic builder: a built-in's name or a descriptor file "
+            "(trajectory, calibration-eval; docs/robots.md)");
   flags.Add("genes", &genes_text, "13 numbers a_T1..a_B3 d_T1..d_B3 T, comma separated");
   flags.Add("out", &out, "trajectory: CSV file to write");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz (1..10000)");
@@ -63,6 +151,10 @@ int main(int argc, char** argv) {
     return flags.help_requested() ? 0 : 2;
   }
   const std::string cmd = flags.positional()[0];
+  if (!robot_arg.empty()) {
+    return RunGenericCommand(cmd, robot_arg, genes_text, out, set_text, recordings_text,
+                             options_text, objective_params_text, out_dir, rate, cycles, settle);
+  }
   if (cycles < 1 || cycles > 200 || settle < 0 || settle > 50 || !(rate >= 1 && rate <= 10000) ||
       threads < 1 || threads > 256) {
     std::cerr << "gaitforge-sim: --cycles in [1, 200], --settle in [0, 50], --rate in [1, 10000], "

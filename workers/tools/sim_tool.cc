@@ -20,7 +20,6 @@
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::simtool {
-namespace {
 
 std::string JsonEscape(const std::string& s) {
   std::string out;
@@ -34,6 +33,8 @@ std::string JsonEscape(const std::string& s) {
   }
   return out;
 }
+
+namespace {
 
 // Runs fn(i) for i in [0, n) on `threads` threads (each initialised for ODE).
 template <typename F>
@@ -51,24 +52,23 @@ void ParallelFor(int n, int threads, F fn) {
 
 }  // namespace
 
-absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
-                            const std::string& params_path, const std::vector<double>& genes,
-                            const std::string& note,
-                            const std::vector<std::pair<std::string, double>>& overrides) {
+absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string& csv_path,
+                           const std::string& robot, const std::string& params_path,
+                           const std::vector<double>& genes, const std::string& note,
+                           const std::vector<std::pair<std::string, double>>& overrides) {
   std::ofstream csv(csv_path);
   if (!csv) return absl::UnavailableError(absl::StrCat("cannot write ", csv_path));
   csv << "t";
-  for (int i = 1; i <= 6; ++i) csv << ",m" << i << ".x,m" << i << ".y,m" << i << ".z";
+  for (const auto& c : tr.channels) csv << "," << c;
   csv << "\n";
-  for (size_t k = 0; k < m.t.size(); ++k) {
-    csv << absl::StrFormat("%.6f", m.t[k]);
-    for (int i = 0; i < 6; ++i)
-      csv << absl::StrFormat(",%.9g,%.9g,%.9g", m.x[i][k], m.y[i][k], m.z[i][k]);
+  for (size_t k = 0; k < tr.t.size(); ++k) {
+    csv << absl::StrFormat("%.6f", tr.t[k]);
+    for (const auto& col : tr.columns) csv << absl::StrFormat(",%.9g", col[k]);
     csv << "\n";
   }
   std::ofstream side(csv_path + ".json");
-  side << "{\n  \"robot\": \"caterpillar\",\n  \"parameters\": \"" << JsonEscape(params_path)
-       << "\",\n  \"command\": {\"kind\": \"gait\", \"genes\": [";
+  side << "{\n  \"robot\": \"" << JsonEscape(robot) << "\",\n  \"parameters\": \""
+       << JsonEscape(params_path) << "\",\n  \"command\": {\"kind\": \"gait\", \"genes\": [";
   for (size_t i = 0; i < genes.size(); ++i) side << (i ? ", " : "") << absl::StrFormat("%.17g", genes[i]);
   side << "]},\n";
   if (!overrides.empty()) {
@@ -81,6 +81,14 @@ absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::s
   side << "  \"source\": \"simulation\",\n  \"note\": \"" << JsonEscape(note) << "\"\n}\n";
   if (!csv || !side) return absl::DataLossError(absl::StrCat("write failed: ", csv_path));
   return absl::OkStatus();
+}
+
+absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
+                            const std::string& params_path, const std::vector<double>& genes,
+                            const std::string& note,
+                            const std::vector<std::pair<std::string, double>>& overrides) {
+  return WriteChannels(caterpillar::MarkerChannels(m), csv_path, "caterpillar", params_path, genes,
+                       note, overrides);
 }
 
 std::vector<SweepPoint> PeriodSweep(const caterpillar::CaterpillarParams& params,
@@ -254,7 +262,7 @@ absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geo
   return v;
 }
 
-absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text) {
+absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text, size_t count) {
   std::vector<double> g;
   for (const auto& p : absl::StrSplit(text, absl::ByAnyChar(", "), absl::SkipEmpty())) {
     char* end;
@@ -264,9 +272,11 @@ absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text) {
       return absl::InvalidArgumentError(absl::StrCat("--genes: '", s, "' is not a number"));
     g.push_back(x);
   }
-  if (g.size() != 13)
-    return absl::InvalidArgumentError(
-        absl::StrCat("--genes: expected 13 numbers (a_T1..a_B3, d_T1..d_B3, T), got ", g.size()));
+  if (g.size() != count)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--genes: expected ", count, " numbers",
+        count == 13 ? " (a_T1..a_B3, d_T1..d_B3, T)" : " (the robot's controller's genes)",
+        ", got ", g.size()));
   return g;
 }
 

@@ -8,8 +8,19 @@
 #include "absl/status/statusor.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
+#include "workers/objectives/recording_comparison.h"
 
 namespace gaitforge::simtool {
+
+// Writes channels as a recording CSV (docs/recording-format.md: t, then the channels) and its
+// JSON sidecar (robot, parameter file, the gait command, overrides).
+absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string& csv_path,
+                           const std::string& robot, const std::string& params_path,
+                           const std::vector<double>& genes, const std::string& note,
+                           const std::vector<std::pair<std::string, double>>& overrides = {});
+
+// `s` escaped for a JSON string.
+std::string JsonEscape(const std::string& s);
 
 // Writes markers as a recording CSV (docs/recording-format.md: t, m1.x .. m6.z in metres)
 // and its JSON sidecar (robot, parameter file, command).
@@ -56,6 +67,7 @@ absl::StatusOr<std::map<std::string, std::string>> ParseOptions(const std::strin
 
 // "a,b,n": n values evenly spaced from a to b (geometric when `geometric`).
 absl::StatusOr<std::vector<double>> ParseRange(const std::string& text, bool geometric);
-absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text);
+// `count` numbers (the caterpillar's 13 by default), comma or space separated.
+absl::StatusOr<std::vector<double>> ParseGenes(const std::string& text, size_t count = 13);
 
 }  // namespace gaitforge::simtool

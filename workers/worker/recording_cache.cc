@@ -5,7 +5,7 @@
 namespace gaitforge::worker {
 
 absl::StatusOr<std::shared_ptr<const recording::Recording>> RecordingCache::Get(
-    const std::string& hash) {
+    const std::string& hash, const robots::RobotDescriptor* robot) {
   {
     std::lock_guard<std::mutex> l(mu_);
     auto it = entries_.find(hash);
@@ -23,7 +23,7 @@ absl::StatusOr<std::shared_ptr<const recording::Recording>> RecordingCache::Get(
   recording::RecordingLimits limits;
   limits.max_bytes = static_cast<size_t>(1) << 40;
   auto parsed = recording::ParseRecording(bytes->csv, bytes->sidecar, bytes->name,
-                                          bytes->name + ".json", limits);
+                                          bytes->name + ".json", limits, robot);
   if (!parsed.ok()) return parsed.status();
   auto rec = std::make_shared<const recording::Recording>(std::move(*parsed));
   const size_t size = bytes->csv.size() + bytes->sidecar.size();

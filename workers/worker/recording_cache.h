@@ -24,8 +24,10 @@ class RecordingCache {
       : fetch_(std::move(fetch)), max_bytes_(max_bytes) {}
 
   // The parsed recording. Fetches on a miss; checks that the bytes hash to `hash`
-  // (DATA_LOSS otherwise) and parse (INVALID_ARGUMENT otherwise).
-  absl::StatusOr<std::shared_ptr<const recording::Recording>> Get(const std::string& hash);
+  // (DATA_LOSS otherwise) and parse (INVALID_ARGUMENT otherwise); `robot` is the job's
+  // robot when the study carries its descriptor (a recording may name it).
+  absl::StatusOr<std::shared_ptr<const recording::Recording>> Get(
+      const std::string& hash, const robots::RobotDescriptor* robot = nullptr);
   size_t size() const;
   int64_t fetches() const { return fetches_; }
 

@@ -20,6 +20,7 @@
 #include "workers/protocol/job_eval.h"
 #include "workers/protocol/wire.h"
 #include "workers/worker/batch_runner.h"
+#include "robots/registry.h"
 #include "workers/worker/recording_cache.h"
 
 namespace gaitforge::worker {
@@ -184,11 +185,18 @@ int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry&
     // network error delays the batch rather than changing its results.
     std::map<std::string, absl::StatusOr<std::shared_ptr<const recording::Recording>>> fetched;
     for (const auto& job : lease.jobs()) {
+      // A robot the study carries may be the one its recordings name.
+      std::shared_ptr<const robots::RobotDescriptor> robot;
+      if (!job.objective().robot_descriptor().empty()) {
+        auto resolved = robots::ResolveRobot(job.objective().robot(),
+                                             job.objective().robot_descriptor());
+        if (resolved.ok()) robot = *resolved;  // else the objective says why
+      }
       for (const auto* list : {&job.objective().recordings()}) {
         for (const auto& hash : *list) {
           if (fetched.count(hash)) continue;
           for (;;) {
-            auto r = recordings.Get(hash);
+            auto r = recordings.Get(hash, robot.get());
             const grpc::StatusCode code = static_cast<grpc::StatusCode>(r.status().code());
             const bool transient = !r.ok() && code != grpc::StatusCode::RESOURCE_EXHAUSTED &&
                                    Retryable(grpc::Status(code, std::string(r.status().message())));

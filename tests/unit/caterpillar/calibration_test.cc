@@ -14,7 +14,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "services/recording/recording.h"
-#include "workers/models/caterpillar/calibration_error.h"
+#include "workers/objectives/calibration_error.h"
 #include "workers/models/caterpillar/calibration_objective.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/caterpillar_params.h"

@@ -43,7 +43,9 @@
 // Thread-safe and deterministic: every call builds its own ODE worlds.
 #include <memory>
 
+#include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
+#include "workers/objectives/recording_comparison.h"
 #include "workers/objectives/objective.h"
 
 namespace gaitforge::caterpillar {
@@ -58,6 +60,9 @@ class CalibrationObjective : public objectives::Objective {
 };
 
 inline constexpr char kCalibrationObjectiveName[] = "caterpillar.calibration";
+
+// The markers as recording channels m1.x, m1.y, m1.z, ..., m6.z.
+calibration::Trajectory MarkerChannels(const MarkerTrajectory& m);
 
 // Registers "caterpillar.calibration" with the installed caterpillar.yaml. Throws
 // std::runtime_error when that file is missing or invalid.

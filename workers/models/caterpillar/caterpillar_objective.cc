@@ -16,30 +16,18 @@
 namespace gaitforge::caterpillar {
 namespace {
 
-// A param's value, its default when absent; false when outside [lo, hi] or not whole.
-bool Param(const objectives::EvalInput& in, const char* name, double lo, double hi,
-           double fallback, bool integer, double& value, std::string& error) {
-  auto it = in.params.find(name);
-  value = it == in.params.end() ? fallback : it->second;
-  if (!(value >= lo && value <= hi) || (integer && value != std::floor(value))) {
-    error = absl::StrCat("param ", name, " = ", value, " is outside [", lo, ", ", hi, "]",
-                         integer ? " (a whole number)" : "");
-    return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInput& in) const {
   sim::InitThread();  // once per thread; later calls are free
   objectives::EvalResult r;
   double cycles, settle, timestep_ms;
-  if (!Param(in, "cycles", 1, 50, params_.simulation.measured_cycles, true, cycles, r.reason) ||
-      !Param(in, "settle_cycles", 0, 20, params_.simulation.settle_cycles, true, settle,
-             r.reason) ||
-      !Param(in, "timestep_ms", 0.05, 2, params_.simulation.timestep_s * 1e3, false,
-             timestep_ms, r.reason)) {
+  const auto& defaults = params_.simulation;
+  if (!objectives::ParamInRange(in, "cycles", 1, 50, defaults.measured_cycles, true, cycles, r.reason) ||
+      !objectives::ParamInRange(in, "settle_cycles", 0, 20, defaults.settle_cycles, true, settle,
+                                r.reason) ||
+      !objectives::ParamInRange(in, "timestep_ms", 0.05, 2, defaults.timestep_s * 1e3, false,
+                                timestep_ms, r.reason)) {
     return r;
   }
   for (const auto& [name, value] : in.params) {

@@ -1,6 +1,8 @@
 #include "workers/models/generic/generic_gait.h"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "absl/strings/str_cat.h"
 #include "robots/controllers.h"
@@ -28,42 +30,86 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
   return out;
 }
 
+namespace {
+
+// Runs the gait from rest for `steps` steps, calling `each(world)` before every step and
+// once after the last; false (with the reason and time in r) when it diverges.
+bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vector<double>& genes,
+         double timestep_s, const std::function<int64_t(const GenericWorld&)>& steps,
+         const std::function<void(const GenericWorld&, int64_t)>& each, std::string* reason,
+         double* simulated_s) {
+  if (auto first = Commands(d, genes, 0); !first.ok()) {
+    *reason = std::string(first.status().message());
+    return false;
+  }
+  auto world = GenericWorld::Build(d, v, timestep_s);
+  if (!world.ok()) {
+    *reason = std::string(world.status().message());
+    return false;
+  }
+  GenericWorld& w = **world;
+  const double delay = v.Effect("effect.actuator_delay_s");
+  const int64_t total = steps(w);
+  for (int64_t i = 0; i < total; ++i) {
+    each(w, i);
+    const sim::SimOutcome out = w.Step(*Commands(d, genes, std::max(0.0, w.time() - delay)));
+    if (!out.ok) {
+      *reason = out.reason;
+      *simulated_s = w.time();
+      return false;
+    }
+  }
+  each(w, total);
+  *simulated_s = w.time();
+  return true;
+}
+
+}  // namespace
+
+calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& v,
+                                     const std::vector<double>& genes, int cycles, double rate_hz,
+                                     double timestep_s) {
+  calibration::SimRun run;
+  const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
+  const double period = genes.size() == d.controller.genes.size() ? kind->period_s(genes) : 1;
+  calibration::Trajectory& tr = run.trajectory;
+  tr.channels = d.Channels();
+  tr.columns.resize(tr.channels.size());
+  int64_t every = 1;
+  const auto steps = [&](const GenericWorld& w) {
+    every = std::max<int64_t>(1, std::llround(1.0 / (rate_hz * w.timestep())));
+    return static_cast<int64_t>(std::llround(cycles * period / w.timestep()));
+  };
+  const auto sample = [&](const GenericWorld& w, int64_t i) {
+    if (i % every != 0) return;
+    tr.t.push_back(w.time());
+    for (size_t c = 0; c < tr.channels.size(); ++c) tr.columns[c].push_back(*w.Channel(tr.channels[c]));
+  };
+  run.valid = Run(d, v, genes, timestep_s, steps, sample, &run.reason, &run.simulated_s);
+  return run;
+}
+
 GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
                         const std::vector<double>& genes, const GaitOptions& o) {
   GaitResult r;
-  const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
-  if (auto first = Commands(d, genes, 0); !first.ok()) {
-    r.reason = std::string(first.status().message());
-    return r;
-  }
-  const double period = kind->period_s(genes);
   const int settle = o.settle_cycles >= 0 ? o.settle_cycles : static_cast<int>(v("simulation.settle_cycles"));
   const int measured =
       o.measured_cycles >= 0 ? o.measured_cycles : static_cast<int>(v("simulation.measured_cycles"));
-  auto world = GenericWorld::Build(d, v, o.timestep_s);
-  if (!world.ok()) {
-    r.reason = std::string(world.status().message());
-    return r;
-  }
-  GenericWorld& w = **world;
-  const auto steps = [&](int cycles) {
-    return static_cast<int64_t>(std::llround(cycles * period / w.timestep()));
+  const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
+  int64_t settle_steps = 0, total = 0;
+  double start_x = 0, end_x = 0;
+  const auto steps = [&](const GenericWorld& w) {
+    const double period = kind->period_s(genes);
+    settle_steps = std::llround(settle * period / w.timestep());
+    return total = settle_steps + std::llround(measured * period / w.timestep());
   };
-  double start_x = 0;
-  const int64_t settle_steps = steps(settle), total = settle_steps + steps(measured);
-  for (int64_t i = 0; i < total; ++i) {
+  const auto each = [&](const GenericWorld& w, int64_t i) {
     if (i == settle_steps) start_x = w.CentreOfMass()[0];
-    const sim::SimOutcome out = w.Step(*Commands(d, genes, w.time()));
-    if (!out.ok) {
-      r.reason = out.reason;
-      r.simulated_s = w.time();
-      return r;
-    }
-  }
-  if (settle_steps == total) start_x = w.CentreOfMass()[0];
+    if (i == total) end_x = w.CentreOfMass()[0];
+  };
+  if (!Run(d, v, genes, o.timestep_s, steps, each, &r.reason, &r.simulated_s)) return r;
   r.valid = true;
-  r.simulated_s = w.time();
-  r.distance_per_cycle_m = (w.CentreOfMass()[0] - start_x) / measured;
+  r.distance_per_cycle_m = (end_x - start_x) / measured;
   return r;
 }
 

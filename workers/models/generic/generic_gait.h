@@ -2,12 +2,14 @@
 // One gait of a generic robot (model: generic): from rest, settle_cycles gait periods, then
 // measured_cycles more; fitness is the forward (+x) travel of the robot's centre of mass
 // over the measured cycles, per cycle (m). The controller kind (robots/controllers.h) turns
-// the genes into each actuator's command over time.
+// the genes into each actuator's command over time; with effect.actuator_delay_s = d the
+// actuators receive the command of time max(0, t - d).
 #include <string>
 #include <vector>
 
 #include "robots/descriptor.h"
 #include "workers/models/generic/generic_world.h"
+#include "workers/objectives/recording_comparison.h"
 
 namespace gaitforge::generic {
 
@@ -28,6 +30,13 @@ struct GaitResult {
 // error when the controller kind cannot drive this robot's actuators.
 absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
                                              const std::vector<double>& genes, double t);
+
+// The robot's channels (its sensors: robots::RobotDescriptor::Channels) sampled at rate_hz,
+// from t = 0, over `cycles` gait periods from rest; rate_hz must give a whole number of
+// timesteps (timestep_s <= 0: the robot's simulation.timestep_s) per sample.
+calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& values,
+                                     const std::vector<double>& genes, int cycles, double rate_hz,
+                                     double timestep_s = 0);
 
 // Never throws for a diverging model: that is valid = false with the reason.
 GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& values,

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "robots/registry.h"
+#include "workers/models/generic/generic_calibration.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/objectives/overrides.h"
 #include "workers/sim/ode_runtime.h"
@@ -57,6 +58,7 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
 
 void RegisterGeneric(objectives::ObjectiveRegistry& registry) {
   registry.Register(kRobotDistanceName, std::make_shared<RobotDistanceObjective>());
+  registry.Register(kRobotCalibrationName, std::make_shared<RobotCalibrationObjective>());
 }
 
 }  // namespace gaitforge::generic

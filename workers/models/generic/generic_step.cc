@@ -18,6 +18,19 @@ void GenericWorld::ApplyJointTorques() {
   }
 }
 
+void GenericWorld::ApplyEffects() {
+  if (tether_force_ > 0 || tether_stiffness_ > 0) {
+    const double travel = std::max(0.0, dBodyGetPosition(bodies_[0])[0] - start_[0][0]);
+    dBodyAddForce(bodies_[0], -(tether_force_ + tether_stiffness_ * travel), 0, 0);
+  }
+  if (drag_ > 0) {
+    for (dBodyID b : bodies_) {
+      const dReal* v = dBodyGetLinearVel(b);
+      dBodyAddForce(b, -drag_ * v[0], -drag_ * v[1], -drag_ * v[2]);
+    }
+  }
+}
+
 void GenericWorld::ApplyServos(const std::vector<double>& commands) {
   for (size_t i = 0; i < servos_.size(); ++i) {
     Servo& s = servos_[i];
@@ -70,8 +83,14 @@ void GenericWorld::AddGroundContacts() {
       // four corners of a flat box would give eight friction rows for three in-plane
       // freedoms, and ODE's LCP failed on them ("s <= 0") in about 1 gait in 50. The cost:
       // no friction torque about z from a box's footprint (docs/robots.md).
+      // A direction-dependent coefficient replaces the ground's own when it is set (> 0).
+      const double vx = dBodyGetLinearVel(bodies_[i])[0];
+      const double directed = vx >= 0 ? friction_forward_ : friction_backward_;
       if (k != deepest) {
         c.surface.mu = 0;
+      } else if (directed > 0) {
+        c.surface.mode |= dContactApprox1;
+        c.surface.mu = directed;
       } else if (std::isinf(friction_)) {
         c.surface.mu = dInfinity;
       } else {
@@ -110,6 +129,7 @@ sim::SimOutcome GenericWorld::CheckState() {
 
 sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
   ApplyJointTorques();
+  ApplyEffects();
   ApplyServos(commands);
   AddGroundContacts();
   try {

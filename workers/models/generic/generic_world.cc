@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "workers/effects/effects.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::generic {
@@ -30,20 +32,60 @@ ParamValues::ParamValues(const robots::RobotDescriptor& d) : d_(&d) {
 }
 
 absl::Status ParamValues::Set(const std::string& name, double value) {
-  for (size_t i = 0; i < d_->parameters.size(); ++i) {
-    if (d_->parameters[i].name != name) continue;
-    if (std::string bad = d_->parameters[i].Check(value); !bad.empty())
-      return absl::InvalidArgumentError(bad);
-    values_[i] = value;
+  const std::vector<double> before = values_;
+  const std::map<std::string, double> effects_before = effects_;
+  if (const robots::Parameter* p = d_->FindParameter(name)) {
+    if (std::string bad = p->Check(value); !bad.empty()) return absl::InvalidArgumentError(bad);
+    values_[p - d_->parameters.data()] = value;
+  } else if (const robots::Scale* scale = d_->FindScale(name)) {
+    if (auto s = SetScale(*scale, value); !s.ok()) return s;
+  } else if (const auto* e = effects::BuilderParam(name, *d_)) {
+    if (!(value >= e->lo && value <= e->hi))
+      return absl::InvalidArgumentError(absl::StrCat(name, " = ", value, " ", e->unit,
+                                                     " is outside [", e->lo, ", ", e->hi, "]"));
+    effects_[name] = value;
     return absl::OkStatus();
+  } else {
+    std::vector<std::string> known;
+    for (const auto& p : d_->parameters) known.push_back(p.name);
+    for (const auto& sc : d_->scales) known.push_back(sc.name);
+    return absl::NotFoundError(absl::StrCat(d_->name, " has no parameter ", name, "; nearest: ",
+                                            absl::StrJoin(robots::Nearest(name, known), ", ")));
   }
-  return absl::NotFoundError(absl::StrCat(d_->name, " has no parameter ", name));
+  absl::Status rel = d_->CheckRelations([this](const std::string& n) { return (*this)(n); });
+  if (!rel.ok()) {
+    values_ = before;
+    effects_ = effects_before;
+    return absl::InvalidArgumentError(absl::StrCat("after ", name, " = ", value, ": ", rel.message()));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ParamValues::SetScale(const robots::Scale& scale, double factor) {
+  if (!std::isfinite(factor) || !(factor > 0))
+    return absl::InvalidArgumentError(
+        absl::StrCat(scale.name, " = ", factor, " must be a positive finite factor"));
+  std::vector<double> next = values_;
+  for (const std::string& field : scale.multiplies) {
+    const robots::Parameter* p = d_->FindParameter(field);
+    const size_t i = p - d_->parameters.data();
+    next[i] = values_[i] * factor;
+    if (std::string bad = p->Check(next[i]); !bad.empty())
+      return absl::InvalidArgumentError(absl::StrCat(scale.name, " = ", factor, " makes ", bad));
+  }
+  values_ = next;
+  return absl::OkStatus();
 }
 
 double ParamValues::operator()(const std::string& name) const {
   for (size_t i = 0; i < d_->parameters.size(); ++i)
     if (d_->parameters[i].name == name) return values_[i];
   throw std::out_of_range(absl::StrCat(d_->name, " has no parameter ", name));
+}
+
+double ParamValues::Effect(const std::string& name) const {
+  auto it = effects_.find(name);
+  return it == effects_.end() ? 0.0 : it->second;
 }
 
 GenericWorld::GenericWorld(const robots::RobotDescriptor& d, double timestep_s)
@@ -61,7 +103,9 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   if (!d.ground) return absl::InvalidArgumentError(d.source + ": a generic robot needs ground");
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
   std::unique_ptr<GenericWorld> w(new GenericWorld(d, h));
-  dWorldSetGravity(w->world_.world(), 0, 0, -v("simulation.gravity_m_per_s2"));
+  // A ground slope s (effect.slope_rad, + uphill along +x) tilts gravity about y.
+  const double g = v("simulation.gravity_m_per_s2"), slope = v.Effect("effect.slope_rad");
+  dWorldSetGravity(w->world_.world(), -g * std::sin(slope), 0, -g * std::cos(slope));
   // Rigid rows: drift correction and softness, the robot's simulation.solver_erp and
   // simulation.solver_cfm when it gives them (a small positive CFM keeps the solver's
   // matrix regular where rows over-constrain a body).
@@ -77,6 +121,11 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->friction_ = Eval(d.ground->friction, v);
   w->contact_erp_ = Eval(d.ground->erp, v);
   w->contact_cfm_ = Eval(d.ground->cfm, v);
+  w->tether_force_ = v.Effect("effect.tether_force_n");
+  w->tether_stiffness_ = v.Effect("effect.tether_stiffness_n_per_m");
+  w->drag_ = v.Effect("effect.drag_n_s_per_m");
+  w->friction_forward_ = v.Effect("effect.friction_forward");
+  w->friction_backward_ = v.Effect("effect.friction_backward");
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;

@@ -9,7 +9,14 @@
 // springs and dampers are explicit torques -k (angle - rest) - c rate; the ground z = 0
 // touches every box (Coulomb friction with dContactApprox1, or no slip when the friction
 // parameter is infinite); then one dWorldStep and a divergence check.
+//
+// Effects it attaches (workers/effects/effects.h, docs/effects.md), each off at 0: a tether
+// pulling the first body backwards (-x) at its centre with F + k max(0, x - x0); gravity
+// tilted by a ground slope about y; viscous drag -c v on every body; direction-dependent
+// Coulomb friction (forward or backward coefficient by the sign of the body's x velocity,
+// 0 keeping the ground's own); a command delay (generic_gait.cc).
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,17 +28,26 @@
 
 namespace gaitforge::generic {
 
-// Parameter values by name: the descriptor's nominal values with overrides applied.
+// Parameter values by name: the descriptor's nominal values with overrides applied, and the
+// effects the builder attaches (workers/effects: effect.* of an effect whose part the robot
+// has; 0, the effect absent, unless set).
 class ParamValues {
  public:
   explicit ParamValues(const robots::RobotDescriptor& d);
-  // Replaces a parameter's value; the error names its range (robots::Parameter::Check).
+  // Sets a parameter, multiplies by a scale ("scale.hinge": each parameter it names must stay
+  // in range) or sets an effect's parameter; then checks the descriptor's relations. On
+  // error nothing changes and the message names the value and its range (or, for an unknown
+  // name, the nearest known ones).
   absl::Status Set(const std::string& name, double value);
   double operator()(const std::string& name) const;
+  // An effect parameter's value (0 unless set).
+  double Effect(const std::string& name) const;
 
  private:
+  absl::Status SetScale(const robots::Scale& scale, double factor);
   const robots::RobotDescriptor* d_;
   std::vector<double> values_;  // parallel to d_->parameters
+  std::map<std::string, double> effects_;
 };
 
 class GenericWorld {
@@ -65,6 +81,7 @@ class GenericWorld {
   absl::Status BuildActuators(const ParamValues& v);
   void BuildMarkers(const ParamValues& v);
   void ApplyJointTorques();
+  void ApplyEffects();
   void ApplyServos(const std::vector<double>& commands);
   void AddGroundContacts();
   sim::SimOutcome CheckState();
@@ -95,6 +112,9 @@ class GenericWorld {
   };
   std::vector<Marker> markers_;
   double friction_ = 0, contact_erp_ = 0, contact_cfm_ = 0;
+  // Effects (0: off).
+  double tether_force_ = 0, tether_stiffness_ = 0, drag_ = 0;
+  double friction_forward_ = 0, friction_backward_ = 0;
   double max_speed_ = 0, max_excursion_ = 0;
   int64_t steps_ = 0;
   int ground_contacts_ = 0;

@@ -1,4 +1,4 @@
-#include "workers/models/caterpillar/calibration_error.h"
+#include "workers/objectives/calibration_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 
-namespace gaitforge::caterpillar::calibration {
+namespace gaitforge::calibration {
 
 absl::StatusOr<Metric> ParseMetric(std::string_view name) {
   if (name == "rmse") return Metric::kRmse;
@@ -224,4 +224,4 @@ double DistancePerCycle(std::span<const double> t, std::span<const double> x, do
   return LeastSquaresSlope(t, x) * period_s;
 }
 
-}  // namespace gaitforge::caterpillar::calibration
+}  // namespace gaitforge::calibration

@@ -1,8 +1,9 @@
 #pragma once
 // Error measures between a recording and a simulation, as pure functions on sampled signals
-// (no ODE): the pieces of "caterpillar.calibration" (calibration_objective.h), after the
-// calibration method of paper 003 (../shared/papers/003_*): a phase-shift-invariant mean
-// absolute error (its eq. 4) between signals averaged over the gait period.
+// (no ODE): the pieces of every calibration objective ("caterpillar.calibration",
+// "robot.calibration"), after the calibration method of paper 003 (../shared/papers/003_*):
+// a phase-shift-invariant mean absolute error (its eq. 4) between signals averaged over the
+// gait period.
 //
 // Conventions: a "signal" is one channel's samples; "signals" are several channels of equal
 // length, channel-major (signals[c][i]). Residuals are real - sim; an offset is the constant
@@ -18,7 +19,7 @@
 
 #include "absl/status/statusor.h"
 
-namespace gaitforge::caterpillar::calibration {
+namespace gaitforge::calibration {
 
 using Signals = std::vector<std::vector<double>>;
 
@@ -106,4 +107,4 @@ std::vector<double> MeanSignal(const Signals& signals);
 // time times the period. Over many cycles it is insensitive to the hops of single cycles.
 double DistancePerCycle(std::span<const double> t, std::span<const double> x, double period_s);
 
-}  // namespace gaitforge::caterpillar::calibration
+}  // namespace gaitforge::calibration

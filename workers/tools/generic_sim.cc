@@ -1,0 +1,132 @@
+// gaitforge-sim for generic robots (generic_sim.h).
+#include "workers/tools/generic_sim.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "robots/controllers.h"
+#include "services/recording/recording.h"
+#include "workers/models/generic/generic_calibration.h"
+#include "workers/models/generic/generic_gait.h"
+#include "workers/objectives/recording_comparison.h"
+#include "workers/sim/ode_runtime.h"
+#include "workers/tools/sim_tool.h"
+
+namespace gaitforge::simtool {
+namespace {
+
+// The descriptor's values with the model overrides (not the nuisance ones) applied.
+absl::StatusOr<generic::ParamValues> Values(const GenericRun& run) {
+  generic::ParamValues v(*run.robot);
+  for (const auto& [name, value] : run.overrides) {
+    if (name == calibration::kTimeOffsetGene) continue;
+    if (auto s = v.Set(name, value); !s.ok()) return absl::InvalidArgumentError(absl::StrCat("--set ", s.message()));
+  }
+  return v;
+}
+
+absl::StatusOr<recording::Recording> Read(const std::string& path, const GenericRun& run) {
+  std::ifstream csv_in(path, std::ios::binary), side_in(path + ".json", std::ios::binary);
+  if (!csv_in || !side_in)
+    return absl::NotFoundError(absl::StrCat("cannot read ", path, " and ", path, ".json"));
+  std::stringstream csv, side;
+  csv << csv_in.rdbuf();
+  side << side_in.rdbuf();
+  return recording::ParseRecording(csv.str(), side.str(), path, path + ".json", {}, run.robot);
+}
+
+std::string MetricsJson(const objectives::EvalResult& r) {
+  std::string json;
+  int k = 0;
+  for (const auto& [name, value] : r.metrics)
+    absl::StrAppend(&json, k++ ? ", " : "", "\"", name, "\": ", absl::StrFormat("%.9g", value));
+  return json;
+}
+
+}  // namespace
+
+absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>& genes,
+                               const std::string& out) {
+  const robots::RobotDescriptor& d = *run.robot;
+  if (genes.size() != d.controller.genes.size())
+    return absl::InvalidArgumentError(absl::StrCat("--genes: ", d.name, " takes ",
+                                                   d.controller.genes.size(), " genes, got ",
+                                                   genes.size()));
+  auto values = Values(run);
+  if (!values.ok()) return values.status();
+  sim::InitThread();
+  const auto sim = generic::SimulateChannels(d, *values, genes, run.settle_cycles + run.cycles,
+                                             run.rate_hz);
+  if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
+  return WriteChannels(sim.trajectory, out, d.name, run.robot_path, genes,
+                       "simulated by gaitforge-sim", run.overrides);
+}
+
+absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,
+                                                   const std::string& recordings,
+                                                   const std::map<std::string, std::string>& options,
+                                                   const std::map<std::string, double>& params,
+                                                   const std::string& out_dir) {
+  double offset = 0;
+  for (const auto& [name, value] : run.overrides)
+    if (name == calibration::kTimeOffsetGene) offset = value;
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) return absl::InvalidArgumentError(absl::StrCat("--out-dir ", out_dir, ": ", ec.message()));
+  }
+  auto values = Values(run);
+  if (!values.ok()) return values.status();
+  const generic::RobotCalibrationObjective objective;
+  std::string json = "{\"recordings\": [";
+  int i = 0;
+  for (const auto& part : absl::StrSplit(recordings, ',', absl::SkipEmpty())) {
+    const std::string path(part);
+    auto rec = Read(path, run);
+    if (!rec.ok()) return rec.status();
+    objectives::EvalInput in;
+    for (const auto& [name, value] : run.overrides) {
+      in.gene_names.push_back(name);
+      in.genes.push_back(value);
+    }
+    in.lo.assign(in.genes.size(), -1e300);
+    in.hi.assign(in.genes.size(), 1e300);
+    in.options = options;
+    in.params = params;
+    in.robot = run.robot->name;
+    in.robot_descriptor = run.robot_text;
+    in.recordings.push_back(std::make_shared<const recording::Recording>(*rec));
+    sim::InitThread();
+    const auto r = objectives::EvaluateSafely(objective, in);
+    absl::StrAppend(&json, i ? ",\n " : "\n ", "{\"file\": \"", JsonEscape(path),
+                    "\", \"time_offset_s\": ", absl::StrFormat("%.9g", offset), ", \"valid\": ",
+                    r.valid ? "true" : "false", ", \"reason\": \"", JsonEscape(r.reason),
+                    "\", \"metrics\": {", MetricsJson(r), "}");
+    if (!out_dir.empty() && r.valid) {
+      // The recording's gait with the same overrides, channels over the recording's span.
+      const double period =
+          robots::FindControllerKind(run.robot->controller.kind)->period_s(rec->meta.genes);
+      const int cycles = static_cast<int>(std::ceil((rec->t.back() + 0.5) / period)) + 1;
+      const auto sim = generic::SimulateChannels(*run.robot, *values, rec->meta.genes, cycles,
+                                                 run.rate_hz);
+      if (sim.valid) {
+        const std::string sim_path = absl::StrCat(out_dir, "/sim-", i, ".csv");
+        if (auto s = WriteChannels(sim.trajectory, sim_path, run.robot->name, run.robot_path,
+                                   rec->meta.genes, "calibration-eval");
+            !s.ok())
+          return s;
+        absl::StrAppend(&json, ", \"sim\": \"", JsonEscape(sim_path), "\"");
+      }
+    }
+    absl::StrAppend(&json, "}");
+    ++i;
+  }
+  return json + "\n]}";
+}
+
+}  // namespace gaitforge::simtool

@@ -1,0 +1,39 @@
+#pragma once
+// gaitforge-sim for a robot on the generic builder (model: generic; docs/robots.md): its
+// sensors' channels over one gait as a recording (trajectory), and the robot.calibration
+// objective against recordings (calibration-eval), the same model build as the workers.
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "robots/descriptor.h"
+
+namespace gaitforge::simtool {
+
+struct GenericRun {
+  const robots::RobotDescriptor* robot = nullptr;
+  std::string robot_path;     // the descriptor file ("" for a built-in robot)
+  std::string robot_text;     // its text (what a study carries)
+  std::vector<std::pair<std::string, double>> overrides;  // --set, in order
+  double rate_hz = 100;
+  int settle_cycles = 2, cycles = 10;
+};
+
+// The robot's channels over settle + measured cycles of `genes` from rest, written as a
+// recording CSV at `out` with its sidecar. The error names a bad gene count, a bad --set
+// or a diverging simulation.
+absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>& genes,
+                               const std::string& out);
+
+// For each recording (comma-separated CSV paths with sidecars): robot.calibration's error and
+// metrics with the overrides as genes, and (with out_dir) the simulated channels of the
+// recording's gait as out_dir/sim-<i>.csv. Returns JSON, as CalibrationEval does.
+absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,
+                                                   const std::string& recordings,
+                                                   const std::map<std::string, std::string>& options,
+                                                   const std::map<std::string, double>& params,
+                                                   const std::string& out_dir);
+
+}  // namespace gaitforge::simtool
