@@ -78,7 +78,15 @@ import sys
 
 import numpy as np
 
-MARKERS = [f"m{i}" for i in range(1, 7)]
+def marker_names(columns):
+    """The markers among recording columns, in column order: every NAME with a NAME.x, NAME.y
+    or NAME.z column (the caterpillar's m1..m6, any robot's named markers)."""
+    names = []
+    for c in columns:
+        base, _, axis = c.rpartition(".")
+        if base and axis in ("x", "y", "z") and base not in names:
+            names.append(base)
+    return names
 SETTLE_CYCLES = 2
 PHASE_BINS = 10
 CONTACT_BAND_M = 1.5e-3
@@ -189,7 +197,11 @@ class Recording:
         sim_path = resolve(entry["sim"], base)
         with open(self.file + ".json") as f:
             self.genes = json.load(f)["command"]["genes"]
-        self.period = float(self.genes[12])
+        # The gait period the objective compared over (any robot's controller); older
+        # evaluations without it are the caterpillar's, whose 13th gene is the period.
+        metrics = entry.get("metrics", {})
+        self.period = float(metrics["period_s_0"]) if "period_s_0" in metrics \
+            else float(self.genes[12])
         self.shift = float(entry.get("time_offset_s", 0.0)) + \
             float(entry.get("metrics", {}).get("time_shift_s_0", 0.0))
         rec, sim = read_csv(self.file), read_csv(sim_path)
@@ -205,7 +217,8 @@ class Recording:
         self.dt = float(np.median(steps))
         self.consecutive = np.abs(np.diff(self.t) - self.dt) < 0.05 * self.dt
         self.rec, self.sim, self.res, self.y_max = {}, {}, {}, 0.0
-        for m in MARKERS:
+        self.markers = marker_names(rec)
+        for m in self.markers:
             for axis in ("x", "z"):
                 ch = f"{m}.{axis}"
                 if ch not in rec or ch not in sim:
@@ -296,7 +309,7 @@ class Recording:
         # has no such slice (null).
         contact = {s: {"share": [], "x": [], "z": [], "drift": []} for s in ("ground", "airborne")}
         vel = {s: {"share": [], "x": [], "drift": []} for s in ("forward", "backward")}
-        for m in MARKERS:
+        for m in self.markers:
             cx, cz = f"{m}.x", f"{m}.z"
             if cx not in self.res:
                 continue

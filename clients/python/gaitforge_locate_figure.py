@@ -10,13 +10,15 @@ def figure(recs, slices, path, variants, phase_bins):
     import matplotlib.pyplot as plt
     n = len(recs)
     fig, axes = plt.subplots(n, 3, figsize=(13, 2.8 * n), squeeze=False)
-    colors = plt.cm.viridis(np.linspace(0, 0.9, 6))
     for row, (rec, s) in enumerate(zip(recs, slices)):
+        # One colour per marker, rear to front (the robot's own marker names).
+        colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(rec.markers))))
         for col, chans in enumerate((rec.xs, rec.zs)):
             ax = axes[row, col]
             for c in chans:
-                ax.plot(rec.ts, 1000 * rec.res[c], lw=0.8, color=colors[int(c[1]) - 1],
-                        label=c.split(".")[0])
+                ax.plot(rec.ts, 1000 * rec.res[c], lw=0.8,
+                        color=colors[rec.markers.index(c.rpartition(".")[0])],
+                        label=c.rpartition(".")[0])
             ax.axhline(0, color="grey", lw=0.6)
             ax.set_title(f"{rec.name}: {'x' if col == 0 else 'z'} residual (recorded - simulated)",
                          fontsize=8)

@@ -80,6 +80,9 @@ TEST(RobotStudy, TheGapFinderFindsATetherConcealedInTheFixtureRobotsRecordings) 
                                 std::regex(R"re("effect.tether_force_n": \{"index": 1, "value": ([-0-9.e]+))re")))
       << r.out;
   EXPECT_NEAR(std::stod(m[1]), 0.2, 0.03);
+  // Where the mismatch lives: the fixture's own markers (tail, nose) sliced.
+  EXPECT_THAT(r.out, ::testing::Not(HasSubstr(R"("located": {})"))) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("tail"));
   // The corrected model names the robot's descriptor, written beside it.
   EXPECT_THAT(r.out, HasSubstr("corrected-model.yaml"));
 }

@@ -321,6 +321,7 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
   Context c{rec, sim, s, std::move(*channels), {}, period, offset, dt, settle_t, bins,
             std::max<int64_t>(kb, s.settle_cycles), ke, {}};
   c.out.simulated_s = run.simulated_s;
+  c.out.period_s = period;
   for (size_t k = 0; k < rec.channels.size(); ++k) {
     const int at = sim.Index(rec.channels[k]);
     if (at >= 0 && AxisOf(rec.channels[k]) == 0)
@@ -381,6 +382,7 @@ objectives::EvalResult CompareAll(
     r.metrics["error_" + k] = c->error;
     r.metrics["best_shift_" + k] = c->shift;
     r.metrics["time_shift_s_" + k] = c->time_shift_s;
+    r.metrics["period_s_" + k] = c->period_s;
     if (c->has_distance) {
       r.metrics["sim_distance_per_cycle_" + k] = c->sim_distance;
       r.metrics["real_distance_per_cycle_" + k] = c->real_distance;

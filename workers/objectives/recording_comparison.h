@@ -76,6 +76,7 @@ struct Comparison {
   bool has_distance = false;
   double real_distance = 0, sim_distance = 0;
   double simulated_s = 0;
+  double period_s = 0;  // the gait period compared over
 };
 
 // Compares one recording of a command with period `period_s` (recording time t is
@@ -85,7 +86,7 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
                                             const Simulator& simulate);
 
 // Every recording of `in` compared by `compare`, weighted by s.weights: fitness = -(weighted
-// mean error), metrics error, error_<i>, best_shift_<i>, time_shift_s_<i>, distances and
+// mean error), metrics error, error_<i>, best_shift_<i>, time_shift_s_<i>, period_s_<i>, distances and
 // their ratio, offset_x/y/z, simulated_s. A failed comparison makes the result invalid with
 // "recording <i>: <why>".
 objectives::EvalResult CompareAll(
