@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
@@ -37,6 +38,17 @@ void SetDeadline(grpc::ClientContext& ctx, double seconds) {
   rpc::PrepareCall(ctx, seconds, CallToken());
 }
 
+namespace {
+
+// Whether a coordinator at this loopback address accepts a connection within a second.
+bool Answers(const std::string& address) {
+  auto channel = rpc::MakeChannel({address, "", "", "", ""});
+  return channel.ok() && (*channel)->WaitForConnected(std::chrono::system_clock::now() +
+                                                      std::chrono::seconds(1));
+}
+
+}  // namespace
+
 std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writable,
                                              std::string* error, bool live) {
   std::unique_ptr<Connection> c(new Connection());
@@ -61,7 +73,16 @@ std::unique_ptr<Connection> Connection::Open(const GlobalOptions& g, bool writab
                "': run 'gaitforge local SPEC' first, or name a server with --coordinator";
       return nullptr;
     }
-    const auto holder = writable || live ? FindDbHolder(g.db) : std::nullopt;
+    auto holder = writable || live ? FindDbHolder(g.db) : std::nullopt;
+    // A holder that does not answer is stopping (a `local` just interrupted releases the
+    // database as its coordinator exits): wait for it to let go, then start our own.
+    if (holder && !Answers(holder->address)) {
+      for (int i = 0; i < 200 && holder; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        holder = FindDbHolder(g.db);
+        if (holder && Answers(holder->address)) break;
+      }
+    }
     if (holder && holder->address.rfind("127.0.0.1:", 0) == 0) {
       c->target_ = holder->address;
       c->shared_ = true;
