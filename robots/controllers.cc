@@ -8,7 +8,7 @@ namespace {
 std::vector<Gene> PhaseOnOffGenes(const Controller& c) {
   std::vector<Gene> genes;
   for (const char* prefix : {"a_", "d_"})
-    for (const auto& a : c.actuators) genes.push_back({prefix + a, 0, 1});
+    for (const auto& a : c.actuators) genes.push_back({prefix + a, 0, 1, true});
   const auto& t = c.ranges.at("period_s");
   genes.push_back({"T", t[0], t[1]});
   return genes;
@@ -27,7 +27,7 @@ std::vector<Gene> SineGenes(const Controller& c) {
   for (const auto& a : c.actuators) {
     genes.push_back({"amp_" + a, amp[0], amp[1]});
     genes.push_back({"off_" + a, off[0], off[1]});
-    genes.push_back({"phase_" + a, 0, 1});
+    genes.push_back({"phase_" + a, 0, 1, true});
   }
   return genes;
 }

@@ -70,6 +70,9 @@ struct Relation {
 struct Gene {
   std::string name;
   double lo = 0, hi = 0;
+  // A phase: lo and hi are the same point of a cycle (hi - lo = 1 cycle), so engines wrap
+  // it instead of reflecting it, and gaits equal up to one shift of all phases are one gait.
+  bool circular = false;
 };
 
 // The robot's controller: its kind (robots/controllers.h) and what the kind needs.

@@ -17,6 +17,7 @@ enum class Purpose : uint64_t {
   kCrossover = 3,   // the crossover point of a generation
   kMutate = 4,      // per-gene mutation decisions and fresh values
   kEngine = 5,      // other engine decisions (CMA-ES sampling, restarts)
+  kEnsemble = 6,    // robust evaluation's parameter samples (workers/objectives/ensemble.h)
 };
 
 class KeyedRng {

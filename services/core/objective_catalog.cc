@@ -1,5 +1,6 @@
 #include "services/core/objective_catalog.h"
 
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "robots/registry.h"
 
@@ -7,9 +8,21 @@ namespace gaitforge::core {
 
 std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot) {
   std::vector<GeneRange> space;
-  for (const auto& g : robot.controller.genes) space.push_back({g.name, g.lo, g.hi});
+  for (const auto& g : robot.controller.genes) space.push_back({g.name, g.lo, g.hi, g.circular});
   return space;
 }
+
+namespace {
+
+// The caterpillar's gait space without its phase marks: the analytic objectives borrow its
+// ranges, not its circles.
+std::vector<GeneRange> AnalyticSpace() {
+  std::vector<GeneRange> space = CaterpillarGaitSpace();
+  for (auto& g : space) g.circular = false;
+  return space;
+}
+
+}  // namespace
 
 const std::vector<GeneRange>& CaterpillarGaitSpace() {
   static const std::vector<GeneRange> space = GeneSpaceOf(robots::Robot("caterpillar"));
@@ -50,6 +63,11 @@ std::vector<ParamInfo> ComparisonParams(ParamInfo settle_cycles, ParamInfo times
            "(m)"}};
 }
 
+ParamInfo StartPhase() {
+  return {"start_phase", 0, 1, 0,
+          "the gait's phase at t = 0, in cycles: the controller starts this far into its cycle"};
+}
+
 std::vector<std::pair<std::string, std::vector<std::string>>> ComparisonOptions() {
   return {{"error", {"shape", "pointwise", "stats"}},
           {"metric", {"rmse", "mae"}},
@@ -63,16 +81,16 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
   static const std::vector<ObjectiveInfo> catalog = {
       {"analytic.sphere",
        "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
-       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
+       AnalyticParams(), AnalyticSpace(), 0, {}, false},
       {"analytic.ellipsoid",
        "fitness = -sum 1e6^(i/(n-1)) z_i^2 (conditioning 1e6)",
-       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
+       AnalyticParams(), AnalyticSpace(), 0, {}, false},
       {"analytic.rosenbrock",
        "fitness = -sum 100 (z_{i+1} - z_i^2)^2 + (1 - z_i)^2",
-       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
+       AnalyticParams(), AnalyticSpace(), 0, {}, false},
       {"analytic.rastrigin",
        "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
-       AnalyticParams(), CaterpillarGaitSpace(), 0, {}, false},
+       AnalyticParams(), AnalyticSpace(), 0, {}, false},
       {"caterpillar.distance",
        "forward travel (m) per gait cycle of the lumped ODE caterpillar "
        "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
@@ -81,7 +99,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
         FromRobot("settle_cycles", "simulation.settle_cycles",
                   "gait cycles from rest before measuring"),
         FromRobot("timestep_ms", "simulation.timestep_s",
-                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)},
+                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
+        StartPhase()},
        CaterpillarGaitSpace(), static_cast<int>(CaterpillarGaitSpace().size()),
        // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
        {{"set", {}}},
@@ -90,7 +109,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        false,
        {},
        false,
-       "caterpillar"},
+       "caterpillar",
+       true},
       {"caterpillar.calibration",
        "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
        "-(mean error over the recordings, weighted by the weights option when given) between "
@@ -118,7 +138,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
         {"settle_cycles", 0, 20, 1,
          "gait cycles from rest before measuring (default: the robot's simulation.settle_cycles)",
          true},
-        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default: the robot's simulation.timestep_s)"}},
+        {"timestep_ms", 0.05, 2, 1, "ODE timestep in ms (default: the robot's simulation.timestep_s)"},
+        StartPhase()},
        {},
        0,
        // set: parameter overrides NAME=VALUE,... of the robot's descriptor
@@ -127,6 +148,8 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        "",
        false,
        {},
+       true,
+       "",
        true},
       {"robot.calibration",
        "calibration of any robot whose descriptor has model: generic (objective.robot) against "
@@ -149,6 +172,15 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        true},
   };
   return catalog;
+}
+
+absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOfObjective(
+    const ObjectiveInfo& info, const std::string& robot, const std::string& descriptor) {
+  if (info.uses_robot) return robots::ResolveRobot(robot, descriptor);
+  const std::string& bound = info.gait_robot.empty() ? info.calibrates : info.gait_robot;
+  if (bound.empty())
+    return absl::InvalidArgumentError(absl::StrCat(info.name, " simulates no robot"));
+  return robots::ResolveRobot(bound, "");
 }
 
 const ObjectiveInfo* FindObjective(std::string_view name) {

@@ -2,10 +2,12 @@
 // The catalog of objectives: names, parameters with their allowed ranges, and default
 // search spaces. The coordinator validates specs against it; workers implement the
 // entries (workers/objectives). Documented in docs/objectives.md.
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "robots/descriptor.h"
 
 namespace gaitforge::core {
@@ -14,6 +16,7 @@ struct GeneRange {
   std::string name;
   double lo;
   double hi;
+  bool circular = false;  // a phase (robots::Gene::circular)
 };
 
 struct ParamInfo {
@@ -53,7 +56,16 @@ struct ObjectiveInfo {
   // The built-in robot whose controller the genes drive, when the objective is bound to
   // one (caterpillar.distance: caterpillar); empty otherwise (uses_robot: objective.robot).
   std::string gait_robot;
+  // Takes objective.robust (docs/objectives.md, "Robust evaluation"): param start_phase and
+  // option set, which an ensemble's members vary.
+  bool robust = false;
 };
+
+// The robot whose parameters an objective's `set` option (and a robust ensemble) changes:
+// objective.robot for a robot-agnostic objective, else the built-in it is bound to; an
+// error when it names none or does not resolve.
+absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOfObjective(
+    const ObjectiveInfo& info, const std::string& robot, const std::string& descriptor);
 
 // A robot's gene space: its controller's genes (robots/controllers.h).
 std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot);

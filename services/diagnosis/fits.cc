@@ -18,24 +18,20 @@
 #include "services/core/objective_catalog.h"
 #include "services/core/subprocess.h"
 #include "services/recording/recording.h"
+#include "robots/numerics.h"
 #include "robots/registry.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
 
-// Numerically irrelevant variants of the model: the canonical caterpillar hops, so these move
-// its travel by tens of percent (../shared/robots/caterpillar.md). Every held-out error is
-// the mean over them, and a discovery must win in the paired comparison across them.
+// Numerically irrelevant variants of the model (robots/numerics.h): the canonical caterpillar
+// hops, so these move its travel by tens of percent (../shared/robots/caterpillar.md). Every
+// held-out error is the mean over them, and a discovery must win in the paired comparison
+// across them.
 std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
-  static const std::vector<std::string> all = {
-      "", "simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
-      "simulation.timestep_s=0.00125", "ground.contact_cfm=3e-6", "ground.contact_cfm=3e-5"};
   auto robot = RobotOf(d);
-  std::vector<std::string> v;
-  for (const std::string& s : all)
-    if (s.empty() || (robot.ok() && (*robot)->FindParameter(s.substr(0, s.find('=')))))
-      v.push_back(s);
-  return v;
+  if (!robot.ok()) return {""};
+  return robots::StandardNumerics(**robot);
 }
 
 absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d) {

@@ -1,6 +1,44 @@
 #include "services/engines/engine.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace gaitforge::engines {
+
+double Bounds::Fold(size_t i, double x) const {
+  if (!IsCircular(i)) return std::clamp(x, lo[i], hi[i]);
+  const double period = hi[i] - lo[i];
+  const double t = x - lo[i] - period * std::floor((x - lo[i]) / period);
+  return t >= period ? lo[i] : lo[i] + t;  // rounding may reach the period
+}
+
+double Bounds::Near(size_t i, double x, double ref) const {
+  if (!IsCircular(i)) return x;
+  const double period = hi[i] - lo[i];
+  return ref + std::remainder(x - ref, period);
+}
+
+bool SameGenotype(const std::vector<double>& a, const std::vector<double>& b,
+                  const Bounds& bounds) {
+  if (a.size() != b.size() || a.size() != bounds.size()) return a == b;
+  bool have_shift = false;
+  double shift = 0;  // of the first circular gene, in periods
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double range = bounds.hi[i] - bounds.lo[i], tol = 1e-9 * range;
+    if (!bounds.IsCircular(i)) {
+      if (std::abs(a[i] - b[i]) > tol) return false;
+      continue;
+    }
+    const double d = std::remainder(a[i] - b[i], range) / range;
+    if (!have_shift) {
+      have_shift = true;
+      shift = d;
+    } else if (std::abs(std::remainder(d - shift, 1.0)) > 1e-9) {
+      return false;
+    }
+  }
+  return true;
+}
 
 bool RanksBefore(const Evaluation& a, int member_a, const Evaluation& b, int member_b) {
   if (a.valid != b.valid) return a.valid;

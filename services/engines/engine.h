@@ -47,8 +47,22 @@ struct Ranked {
 struct Bounds {
   std::vector<double> lo;
   std::vector<double> hi;
+  // Empty, or one per gene: true for a gene on a circle (lo and hi the same point).
+  std::vector<bool> circular;
   size_t size() const { return lo.size(); }
+  bool IsCircular(size_t i) const { return i < circular.size() && circular[i]; }
+  // x brought into gene i's range: clamped to [lo, hi], or for a circular gene wrapped
+  // into [lo, hi) (hi - lo is its period).
+  double Fold(size_t i, double x) const;
+  // x, or for a circular gene its representative nearest `ref` (x + whole periods), so
+  // that differences and means across the seam are those on the circle.
+  double Near(size_t i, double x, double ref) const;
 };
+
+// The same genotype: every gene equal within 1e-9 of its range, except that the circular
+// genes may all be shifted by one common amount (a gait started at another phase).
+bool SameGenotype(const std::vector<double>& a, const std::vector<double>& b,
+                  const Bounds& bounds);
 
 class Engine {
  public:

@@ -13,6 +13,12 @@ bool HallOfFame::Admits(const Evaluation& eval) const {
 void HallOfFame::Offer(int generation, int member, const std::vector<double>& genes,
                        const Evaluation& eval) {
   if (!Admits(eval)) return;
+  for (auto it = entries_.begin(); it != entries_.end(); ++it) {
+    if (!SameGenotype(genes, it->genes, bounds_)) continue;
+    if (!Better(eval, it->eval)) return;  // the same gait is there already, as good
+    entries_.erase(it);
+    break;
+  }
   // Insert after every entry that is not worse (earlier individuals win ties).
   auto pos = std::upper_bound(entries_.begin(), entries_.end(), eval,
                               [](const Evaluation& e, const Ranked& r) {

@@ -2,6 +2,8 @@
 // The best individuals an engine has seen across all its generations, best first, for
 // engines whose members do not carry over (CMA-ES, the sweep). Order: RanksBefore
 // (Deb's feasibility rule) on the evaluations, then the earlier (generation, member).
+// Entries are distinct genotypes (SameGenotype: equal up to one shift of the circular
+// genes); of two that are the same, the hall keeps the better.
 #include <vector>
 
 #include "services/engines/engine.h"
@@ -10,7 +12,8 @@ namespace gaitforge::engines {
 
 class HallOfFame {
  public:
-  explicit HallOfFame(int capacity = 10) : capacity_(capacity) {}
+  explicit HallOfFame(int capacity = 10, Bounds bounds = {})
+      : capacity_(capacity), bounds_(std::move(bounds)) {}
 
   // True when an individual with `eval` would enter the hall now (cheap pre-check, so
   // callers copy genes only for those that do).
@@ -25,6 +28,7 @@ class HallOfFame {
 
  private:
   int capacity_;
+  Bounds bounds_;
   std::vector<Ranked> entries_;
 };
 

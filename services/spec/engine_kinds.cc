@@ -30,6 +30,7 @@ engines::Bounds BoundsOf(const v1::StudySpec& spec) {
   for (const auto& b : spec.bounds()) {
     bounds.lo.push_back(b.lo());
     bounds.hi.push_back(b.hi());
+    bounds.circular.push_back(b.circular());
   }
   return bounds;
 }

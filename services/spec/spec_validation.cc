@@ -10,6 +10,7 @@
 #include "robots/registry.h"
 #include "services/core/objective_catalog.h"
 #include "services/spec/engine_kinds.h"
+#include "services/spec/robust_validation.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::spec {
@@ -35,6 +36,7 @@ void ApplyDefaults(StudySpec* spec) {
         b->set_name(g.name);
         b->set_lo(g.lo);
         b->set_hi(g.hi);
+        b->set_circular(g.circular);
       }
     }
   }
@@ -45,6 +47,7 @@ void ApplyDefaults(StudySpec* spec) {
   for (auto& c : *spec->mutable_constraints()) {
     if (!c.has_scale()) c.set_scale(1.0);
   }
+  ApplyRobustDefaults(spec);
 }
 
 namespace {
@@ -117,6 +120,36 @@ bool ValidateRobotGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
                               "', gene ", i, " of robot ", d.name)});
   }
   return true;
+}
+
+// A circular mark belongs on a phase: a gene the robot's controller marks circular, over
+// one whole cycle.
+void ValidateCircular(const StudySpec& spec, const core::ObjectiveInfo* info,
+                      std::vector<FieldError>& e) {
+  std::shared_ptr<const robots::RobotDescriptor> robot;
+  if (info != nullptr && !info->calibration)
+    if (auto r = core::RobotOfObjective(*info, spec.objective().robot(),
+                                        spec.objective().robot_descriptor());
+        r.ok())
+      robot = *r;
+  for (int i = 0; i < spec.bounds_size(); ++i) {
+    const auto& b = spec.bounds(i);
+    if (!b.circular()) continue;
+    const robots::Gene* gene = nullptr;
+    if (robot)
+      for (const auto& g : robot->controller.genes)
+        if (g.name == b.name() && g.circular) gene = &g;
+    const std::string path = absl::StrCat("bounds[", i, "].circular");
+    if (gene == nullptr)
+      e.push_back({path, absl::StrCat("'", b.name(), "' is not a phase",
+                                      robot ? absl::StrCat(" of robot ", robot->name, "'s controller")
+                                            : absl::StrCat(" (", spec.objective().name(),
+                                                           " drives no robot's controller)"),
+                                      "; only phase genes may be circular")});
+    else if (b.hi() - b.lo() != gene->hi - gene->lo)
+      e.push_back({path, absl::StrCat("needs '", b.name(), "' to span one whole cycle (hi - lo = ",
+                                      gene->hi - gene->lo, "); got [", b.lo(), ", ", b.hi(), "]")});
+  }
 }
 
 }  // namespace
@@ -194,6 +227,7 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
     if (const auto* robot = robots::FindRobot(info->calibrates))
       ValidateCalibrationGenes(spec, *info, *robot, e);
     if (info->uses_robot) robot_ok = ValidateRobotGenes(spec, *info, e);
+    ValidateRobust(spec, *info, e);
     if (info->required_genes > 0 && spec.bounds_size() != info->required_genes)
       add("bounds", absl::StrCat("has ", spec.bounds_size(), " genes; ", info->name,
                                  " needs exactly ", info->required_genes));
@@ -211,6 +245,7 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
       add(absl::StrCat(path, ".name"), absl::StrCat("'", b.name(), "' appears twice"));
   }
 
+  ValidateCircular(spec, info, e);
   if (engine != nullptr) engine->validate(spec, e);
   for (int i = 0; i < spec.constraints_size(); ++i) {
     const auto& c = spec.constraints(i);

@@ -114,6 +114,21 @@ def css(driver, selector):
     return driver.find_elements(By.CSS_SELECTOR, selector)
 
 
+def texts(driver, selector):
+    """The text of every element matching selector, read in one script: the page re-renders
+    live, so element handles may go stale between finding and reading them."""
+    return driver.execute_script(
+        "return Array.from(document.querySelectorAll(arguments[0]), "
+        "e => e.innerText ?? e.textContent)",
+        selector)
+
+
+def text_of(driver, selector):
+    """The first match's text, or "" (read like texts)."""
+    found = texts(driver, selector)
+    return found[0] if found else ""
+
+
 def points(driver):
     e = css(driver, "#curve")
     return int(e[0].get_attribute("data-points")) if e else 0
@@ -173,7 +188,7 @@ def studies_page(driver, base, study, shots):
     driver.get(base)
     row = f'#studies tr[data-study="{study}"]'
     wait(driver, lambda d: css(d, row), "the study's row in the study list")
-    text = css(driver, row)[0].text
+    text = text_of(driver, row)
     check("caterpillar.distance" in text and "running" in text,
           f"the study list shows {study} running caterpillar.distance: {text!r}")
     weight = page_weight(driver)
@@ -186,19 +201,19 @@ def study_page(driver, study, started, shots):
     wait(driver, lambda d: points(d) >= 1, "the fitness curve's first point")
     first_point_s = time.monotonic() - started
     n1 = points(driver)
-    facts = css(driver, "#facts")[0].text
+    facts = text_of(driver, "#facts")
     check("caterpillar" in facts and "running" in facts and "invalid" in facts,
           f"the study's facts name its robot, state and invalid count: {facts!r}")
     wait(driver, lambda d: points(d) > n1, f"the curve to grow beyond {n1} points")
     n2 = points(driver)
-    check("running" in css(driver, "#facts")[0].text,
+    check("running" in text_of(driver, "#facts"),
           f"the curve grew from {n1} to {n2} points while the study runs")
     rows = css(driver, "#history tbody tr")
     check(len(rows) >= n2 - 1, f"the history table has a row per generation ({len(rows)})")
     gait = "#hof .gait svg.diagram[data-kind=phase_onoff] rect.on"
     wait(driver, lambda d: css(d, gait), "a hall-of-fame gait diagram with ON windows")
-    labels = [t.text for t in css(driver, "#hof .gait svg.diagram text")]
-    check("T1" in labels and "B3" in labels and len(css(driver, "#hof .gait")) == 2,
+    labels = texts(driver, "#hof .gait svg.diagram text")
+    check("T1" in labels and "B3" in labels and len(texts(driver, "#hof .gait")) == 2,
           "the hall of fame shows its 2 members, each as a gait diagram of actuators T1..B3")
     driver.save_screenshot(os.path.join(shots, "study.png"))
     css(driver, "#history tbody tr")[-1].click()
@@ -211,7 +226,7 @@ def unknown_study(driver, base, shots):
     driver.get(base + "#/study/no-such-study")
     wait(driver, lambda d: css(d, "#banner") and css(d, "#banner")[0].is_displayed(),
          "the error banner for an unknown study")
-    text = css(driver, "#banner")[0].text
+    text = text_of(driver, "#banner")
     check("no study with id 'no-such-study'" in text, f"an unknown study shows a banner: {text!r}")
     driver.save_screenshot(os.path.join(shots, "unknown-study.png"))
 
@@ -235,12 +250,12 @@ def running_diagnosis(driver, bin_dir, work, shots):
         driver.get(base + "#/diagnoses")
         row = f'#diagnoses tr[data-diagnosis="{diagnosis}"]'
         wait(driver, lambda d: css(d, row), "the diagnosis's row in the list")
-        text = css(driver, row)[0].text
+        text = text_of(driver, row)
         check("dashboard-diagnosis" in text and "caterpillar" in text and "running" in text,
               f"the diagnosis list shows {diagnosis} running: {text!r}")
         css(driver, row)[0].click()
         stage = re.compile(r"^[a-z ]+: \d+/\d+ fits done, \d+/\d+ evaluations")
-        line = lambda d: css(d, "#diagnosis-progress")[0].text if css(d, "#diagnosis-progress") else ""
+        line = lambda d: text_of(d, "#diagnosis-progress") if css(d, "#diagnosis-progress") else ""
         first = wait(driver, lambda d: stage.match(line(d)) and line(d), "the diagnosis's stage and progress")
         check(True, f"the running diagnosis shows its stage and progress: {first!r}")
         driver.save_screenshot(os.path.join(shots, "diagnosis-running.png"))
@@ -264,13 +279,13 @@ def stored_diagnosis(driver, base, diagnosis, shots):
     driver.get(base + "#/diagnoses")
     row = f'#diagnoses tr[data-diagnosis="{diagnosis}"]'
     wait(driver, lambda d: css(d, row), "the stored diagnosis's row")
-    text = css(driver, row)[0].text
+    text = text_of(driver, row)
     check("completed" in text and "found" in text, f"the list shows it completed, found: {text!r}")
     css(driver, row)[0].click()
-    wait(driver, lambda d: css(d, "#verdict-words") and css(d, "#verdict-words")[0].text, "the verdict")
-    words = css(driver, "#verdict-words")[0].text
+    wait(driver, lambda d: css(d, "#verdict-words") and text_of(d, "#verdict-words"), "the verdict")
+    words = text_of(driver, "#verdict-words")
     check(words == "found tether.constant", f"the verdict in words: {words!r}")
-    errors = css(driver, "#errors")[0].text
+    errors = text_of(driver, "#errors")
     check(re.search(r"held-out error \S+ → \S+ mm, training \S+ → \S+ mm", errors),
           f"the errors before and after: {errors!r}")
     params = [e.get_attribute("data-param") for e in css(driver, '#effects [data-effect="tether.constant"] tr[data-param]')]
@@ -288,7 +303,7 @@ def stored_diagnosis(driver, base, diagnosis, shots):
     driver.execute_script("document.getElementById('figures').scrollIntoView()")
     driver.save_screenshot(os.path.join(shots, "diagnosis-figures.png"))
     cand[0].find_element("css selector", "a.study").click()
-    wait(driver, lambda d: css(d, "#facts") and "completed" in css(d, "#facts")[0].text,
+    wait(driver, lambda d: css(d, "#facts") and "completed" in text_of(d, "#facts"),
          "the fit's study page")
     check(True, "a candidate's fit opens its study page")
 
@@ -353,16 +368,16 @@ def tokens(driver, bin_dir, work, shots):
         check(http_status(base)[0] == 200, "the page itself (no data) loads without a token")
         driver.get(base)
         wait(driver, lambda d: css(d, "#auth")[0].is_displayed(), "the token form")
-        check("refused" in css(driver, "#banner")[0].text, "the page says the token was refused")
+        check("refused" in text_of(driver, "#banner"), "the page says the token was refused")
         driver.save_screenshot(os.path.join(shots, "token-form.png"))
         css(driver, "#token")[0].send_keys(CLIENT_TOKEN + "\n")
-        wait(driver, lambda d: "No study yet" in css(d, "#studies")[0].text,
+        wait(driver, lambda d: "No study yet" in text_of(d, "#studies"),
              "the study list after entering the token")
         check(not css(driver, "#banner")[0].is_displayed(), "with the token the banner is gone")
         driver.delete_all_cookies()
         driver.execute_script("sessionStorage.clear()")
         driver.get(base + "?token=" + CLIENT_TOKEN)
-        wait(driver, lambda d: "No study yet" in css(d, "#studies")[0].text, "the list with ?token=")
+        wait(driver, lambda d: "No study yet" in text_of(d, "#studies"), "the list with ?token=")
         check("token" not in driver.current_url, f"?token= is taken off the address: {driver.current_url}")
     finally:
         stop(proc, signal.SIGTERM)

@@ -1,8 +1,22 @@
 #include "workers/protocol/job_eval.h"
 
 #include "absl/strings/str_cat.h"
+#include "workers/objectives/ensemble.h"
 
 namespace gaitforge::worker {
+
+objectives::EnsembleSpec EnsembleOf(const v1::Robustness& r) {
+  objectives::EnsembleSpec e;
+  e.members = r.members();
+  e.numerics.assign(r.numerics().begin(), r.numerics().end());
+  for (const auto& p : r.parameters()) e.parameters.push_back({p.name(), p.lo(), p.hi()});
+  e.start_phases = r.start_phases();
+  objectives::ParseStatistic(r.statistic(), &e.statistic);  // validated with the spec
+  e.quantile = r.quantile();
+  e.k = r.k();
+  e.seed = r.seed();
+  return e;
+}
 
 objectives::EvalResult EvaluateJob(const objectives::ObjectiveRegistry& registry,
                                    const v1::Job& job, const FetchedRecordings& fetched) {
@@ -38,6 +52,8 @@ objectives::EvalResult EvaluateJob(const objectives::ObjectiveRegistry& registry
     r.reason = missing;
   } else if (in.lo.size() != in.genes.size()) {
     r.reason = absl::StrCat("job has ", in.genes.size(), " genes but ", in.lo.size(), " bounds");
+  } else if (job.objective().has_robust()) {
+    r = objectives::EvaluateEnsemble(*obj, in, EnsembleOf(job.objective().robust()));
   } else {
     r = objectives::EvaluateSafely(*obj, in);
   }

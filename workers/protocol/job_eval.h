@@ -8,6 +8,7 @@
 
 #include "absl/status/statusor.h"
 #include "gaitforge/v1/worker.pb.h"
+#include "workers/objectives/ensemble.h"
 #include "workers/objectives/objective.h"
 
 namespace gaitforge::worker {
@@ -21,6 +22,9 @@ using FetchedRecordings =
 // a reason, never an error. Recordings the job names must be in `fetched`.
 objectives::EvalResult EvaluateJob(const objectives::ObjectiveRegistry& registry,
                                    const v1::Job& job, const FetchedRecordings& fetched);
+
+// The ensemble of a robust evaluation (ObjectiveSpec.robust, validated with the spec).
+objectives::EnsembleSpec EnsembleOf(const v1::Robustness& robust);
 
 // Writes an evaluation and its time into a report's result.
 void FillResult(v1::JobResult* out, const objectives::EvalResult& r, double eval_seconds);

@@ -24,7 +24,7 @@ double Mirror01(double u) {
 }
 
 CmaesEngine::CmaesEngine(const CmaesConfig& config)
-    : config_(config), n_(static_cast<int>(config.bounds.size())), hof_(10) {}
+    : config_(config), n_(static_cast<int>(config.bounds.size())), hof_(10, config.bounds) {}
 
 absl::StatusOr<std::unique_ptr<CmaesEngine>> CmaesEngine::Create(const CmaesConfig& config) {
   if (auto s = ValidateCmaesConfig(config); !s.ok()) return s;
@@ -98,8 +98,10 @@ void CmaesEngine::FillCandidates() {
     c.genes.resize(n_);
     for (int i = 0; i < n_; ++i) {
       const double lo = config_.bounds.lo[i], hi = config_.bounds.hi[i];
-      const double u = Mirror01(mean_[i] + sigma_ * Y_(i, k));
-      c.genes[i] = std::clamp(lo + (hi - lo) * u, lo, hi);
+      const double x = mean_[i] + sigma_ * Y_(i, k);
+      // A circular gene wraps round its cycle (0 and 1 are one point); others reflect.
+      const double u = config_.bounds.IsCircular(i) ? x - std::floor(x) : Mirror01(x);
+      c.genes[i] = config_.bounds.Fold(i, lo + (hi - lo) * u);
     }
   }
 }

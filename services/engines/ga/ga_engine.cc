@@ -86,11 +86,14 @@ absl::Status GaEngine::Tell(const std::vector<Evaluation>& evals) {
             [&](int a, int b) { return RanksBefore(evals[a], a, evals[b], b); });
 
   hof_.clear();
-  // The hall of fame reports at least the best member even with elite = 0.
-  const int hof_size = std::max(config_.elite, 1);
-  for (int r = 0; r < hof_size; ++r) {
+  // The hall of fame reports at least the best member even with elite = 0: the best
+  // distinct genotypes (a copy, or the same gait at another phase, is left out).
+  const size_t hof_size = static_cast<size_t>(std::max(config_.elite, 1));
+  for (size_t r = 0; r < order.size() && hof_.size() < hof_size; ++r) {
     const Candidate& c = candidates_[order[r]];
-    hof_.push_back(Ranked{c.origin_generation, c.origin_member, c.genes, evals[order[r]]});
+    bool copy = false;
+    for (const Ranked& h : hof_) copy = copy || SameGenotype(c.genes, h.genes, config_.bounds);
+    if (!copy) hof_.push_back(Ranked{c.origin_generation, c.origin_member, c.genes, evals[order[r]]});
   }
   ++generation_;
   if (Done()) {

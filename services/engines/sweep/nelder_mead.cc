@@ -21,8 +21,9 @@ NelderMead::NelderMead(const std::vector<double>& x0, const Evaluation& f0,
   f_.assign(1, f0);
   for (size_t i = 0; i < n; ++i) {
     std::vector<double> v = x0;
-    v[i] = x0[i] + steps[i] <= bounds.hi[i] ? x0[i] + steps[i] : x0[i] - steps[i];
-    v[i] = std::clamp(v[i], bounds.lo[i], bounds.hi[i]);
+    v[i] = x0[i] + steps[i] <= bounds.hi[i] || bounds.IsCircular(i) ? x0[i] + steps[i]
+                                                                    : x0[i] - steps[i];
+    v[i] = bounds.Fold(i, v[i]);
     pending_.push_back(std::move(v));
   }
 }
@@ -31,7 +32,7 @@ std::vector<double> NelderMead::Along(const std::vector<double>& p, double t,
                                       const Bounds& b) const {
   std::vector<double> out(p.size());
   for (size_t i = 0; i < p.size(); ++i)
-    out[i] = std::clamp(centroid_[i] + t * (p[i] - centroid_[i]), b.lo[i], b.hi[i]);
+    out[i] = b.Fold(i, centroid_[i] + t * (b.Near(i, p[i], centroid_[i]) - centroid_[i]));
   return out;
 }
 
@@ -46,7 +47,7 @@ void NelderMead::Shrink(const Bounds& b) {
   for (size_t v = 1; v < x_.size(); ++v) {
     std::vector<double> p(x_[v].size());
     for (size_t i = 0; i < p.size(); ++i)
-      p[i] = std::clamp(x_[0][i] + kShrink * (x_[v][i] - x_[0][i]), b.lo[i], b.hi[i]);
+      p[i] = b.Fold(i, x_[0][i] + kShrink * (x_[v][i] - x_[0][i]));
     pending_.push_back(std::move(p));
   }
   phase_ = Phase::kShrink;
@@ -66,6 +67,9 @@ void NelderMead::BeginIteration(const Bounds& b, int max_iterations, double tole
   }
   x_ = std::move(x);
   f_ = std::move(f);
+  // Circular genes in the best vertex's chart: every vertex's representative nearest it.
+  for (size_t v = 1; v < x_.size(); ++v)
+    for (size_t i = 0; i < x_[v].size(); ++i) x_[v][i] = b.Near(i, x_[v][i], x_[0][i]);
   pending_.clear();
   // Converged when every vertex is within `tolerance` (fraction of the range) of the best.
   double diameter = 0;

@@ -14,7 +14,8 @@ struct SweepConfig {
   Bounds bounds;
   // Grid points per gene: one value for every gene, or one per gene. A gene with p >= 2
   // points is swept over lo + (hi - lo) j / (p - 1), j = 0..p-1 (both faces included); a
-  // gene with 1 point is held at the centre of its range during the grid.
+  // gene with 1 point is held at the centre of its range during the grid. A circular gene
+  // (Bounds::circular) takes lo + (hi - lo) j / p: its faces are one point.
   std::vector<int> points_per_axis = {5};
   // Nelder-Mead searches started at the best top_k grid points (RanksBefore order).
   int top_k = 3;

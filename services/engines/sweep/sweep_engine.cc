@@ -13,7 +13,7 @@ SweepEngine::SweepEngine(const SweepConfig& config)
       points_(PointsPerGene(config)),
       grid_size_(GridSize(config)),
       grid_best_(config.top_k),
-      hof_(10) {}
+      hof_(10, config.bounds) {}
 
 absl::StatusOr<std::unique_ptr<SweepEngine>> SweepEngine::Create(const SweepConfig& config) {
   if (auto s = ValidateSweepConfig(config); !s.ok()) return s;
@@ -30,7 +30,10 @@ std::vector<double> SweepEngine::GridPoint(int64_t index) const {
     const int p = points_[k];
     const int64_t j = index % p;
     index /= p;
-    x[k] = p == 1 ? 0.5 * (lo + hi) : (j == p - 1 ? hi : lo + (hi - lo) * j / (p - 1));
+    if (config_.bounds.IsCircular(k))  // lo and hi are one point: p points, hi left out
+      x[k] = lo + (hi - lo) * j / p;
+    else
+      x[k] = p == 1 ? 0.5 * (lo + hi) : (j == p - 1 ? hi : lo + (hi - lo) * j / (p - 1));
   }
   return x;
 }

@@ -33,6 +33,7 @@ GaitEvaluation EvaluateGait(const CaterpillarParams& params, const Gait& gait,
   CaterpillarSim sim(params, BuildOptions{}, options.timestep_s);
   const double h = sim.timestep();
   const double T = gait.period_s();
+  const double phase_s = options.start_phase * T;  // 0: the paper's start, bit for bit
   // Step counts from integer arithmetic: the measured window starts at exactly settle * T
   // up to one step (the step that contains it).
   const int64_t settle_steps = std::llround(settle * T / h);
@@ -61,7 +62,7 @@ GaitEvaluation EvaluateGait(const CaterpillarParams& params, const Gait& gait,
       record_markers();
       next_sample += sample_dt;
     }
-    const sim::SimOutcome step = sim.Step(gait.OnMask(sim.time()));
+    const sim::SimOutcome step = sim.Step(gait.OnMask(sim.time() + phase_s));
     if (!step.ok) {
       out.reason = step.reason;
       out.simulated_s = sim.time();

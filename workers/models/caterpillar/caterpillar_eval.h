@@ -15,6 +15,8 @@ struct EvalOptions {
   int settle_cycles = -1;      // < 0: params.simulation.settle_cycles
   int measured_cycles = -1;    // < 0: params.simulation.measured_cycles
   double timestep_s = 0;       // <= 0: params.simulation.timestep_s
+  // The gait's phase at t = 0 (cycles, 0..1): the actuators follow OnMask(t + phase T).
+  double start_phase = 0;
   // > 0: record the markers at this rate (Hz) over the measured cycles.
   double marker_rate_hz = 0;
 };

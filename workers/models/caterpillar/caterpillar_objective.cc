@@ -21,17 +21,19 @@ namespace {
 objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInput& in) const {
   sim::InitThread();  // once per thread; later calls are free
   objectives::EvalResult r;
-  double cycles, settle, timestep_ms;
+  double cycles, settle, timestep_ms, start_phase;
   const auto& defaults = params_.simulation;
   if (!objectives::ParamInRange(in, "cycles", 1, 50, defaults.measured_cycles, true, cycles, r.reason) ||
       !objectives::ParamInRange(in, "settle_cycles", 0, 20, defaults.settle_cycles, true, settle,
                                 r.reason) ||
       !objectives::ParamInRange(in, "timestep_ms", 0.05, 2, defaults.timestep_s * 1e3, false,
-                                timestep_ms, r.reason)) {
+                                timestep_ms, r.reason) ||
+      !objectives::ParamInRange(in, "start_phase", 0, 1, 0, false, start_phase, r.reason)) {
     return r;
   }
   for (const auto& [name, value] : in.params) {
-    if (name != "cycles" && name != "settle_cycles" && name != "timestep_ms") {
+    if (name != "cycles" && name != "settle_cycles" && name != "timestep_ms" &&
+        name != "start_phase") {
       r.reason = "unknown param " + name;
       return r;
     }
@@ -59,6 +61,7 @@ objectives::EvalResult CaterpillarObjective::Evaluate(const objectives::EvalInpu
   EvalOptions options;
   options.measured_cycles = static_cast<int>(cycles);
   options.settle_cycles = static_cast<int>(settle);
+  options.start_phase = start_phase;
   // An explicit timestep_ms wins; otherwise the (possibly overridden) parameter file's.
   options.timestep_s = in.params.count("timestep_ms") ? timestep_ms * 1e-3 : 0.0;
   const GaitEvaluation e = EvaluateGait(params, *gait, options);

@@ -6,6 +6,7 @@
 //   cycles         measured cycles, 1..50, default 1
 //   settle_cycles  cycles from rest before measuring, 0..20, default 2
 //   timestep_ms    0.05..2, default from caterpillar.yaml (1 ms)
+//   start_phase    0..1 cycles, default 0: the gait's phase at t = 0
 // Metrics: distance_per_cycle (m), max_body_pitch (rad), max_stroke (m), actuator_energy (J),
 // airborne_fraction, simulated_s (s).
 // Thread-safe: every call builds its own ODE world; results are bit-identical across threads

@@ -34,8 +34,9 @@ namespace {
 
 // Runs the gait from rest for `steps` steps, calling `each(world)` before every step and
 // once after the last; false (with the reason and time in r) when it diverges.
+// The controller runs `time_offset_s` ahead of the world (a start phase).
 bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vector<double>& genes,
-         double timestep_s, const std::function<int64_t(const GenericWorld&)>& steps,
+         double timestep_s, double time_offset_s, const std::function<int64_t(const GenericWorld&)>& steps,
          const std::function<void(const GenericWorld&, int64_t)>& each, std::string* reason,
          double* simulated_s) {
   if (auto first = Commands(d, genes, 0); !first.ok()) {
@@ -52,7 +53,7 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
   const int64_t total = steps(w);
   for (int64_t i = 0; i < total; ++i) {
     each(w, i);
-    const sim::SimOutcome out = w.Step(*Commands(d, genes, std::max(0.0, w.time() - delay)));
+    const sim::SimOutcome out = w.Step(*Commands(d, genes, std::max(0.0, w.time() - delay) + time_offset_s));
     if (!out.ok) {
       *reason = out.reason;
       *simulated_s = w.time();
@@ -85,7 +86,7 @@ calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const Par
     tr.t.push_back(w.time());
     for (size_t c = 0; c < tr.channels.size(); ++c) tr.columns[c].push_back(*w.Channel(tr.channels[c]));
   };
-  run.valid = Run(d, v, genes, timestep_s, steps, sample, &run.reason, &run.simulated_s);
+  run.valid = Run(d, v, genes, timestep_s, 0, steps, sample, &run.reason, &run.simulated_s);
   return run;
 }
 
@@ -107,7 +108,9 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
     if (i == settle_steps) start_x = w.CentreOfMass()[0];
     if (i == total) end_x = w.CentreOfMass()[0];
   };
-  if (!Run(d, v, genes, o.timestep_s, steps, each, &r.reason, &r.simulated_s)) return r;
+  const double offset =
+      genes.size() == d.controller.genes.size() ? o.start_phase * kind->period_s(genes) : 0;
+  if (!Run(d, v, genes, o.timestep_s, offset, steps, each, &r.reason, &r.simulated_s)) return r;
   r.valid = true;
   r.distance_per_cycle_m = (end_x - start_x) / measured;
   return r;

@@ -17,6 +17,7 @@ struct GaitOptions {
   int settle_cycles = -1;    // < 0: the robot's simulation.settle_cycles
   int measured_cycles = -1;  // < 0: the robot's simulation.measured_cycles
   double timestep_s = 0;     // <= 0: the robot's simulation.timestep_s
+  double start_phase = 0;    // the gait's phase at t = 0 (cycles, 0..1)
 };
 
 struct GaitResult {

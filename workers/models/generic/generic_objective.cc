@@ -44,6 +44,7 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
   if (auto it = in.params.find("cycles"); it != in.params.end()) o.measured_cycles = static_cast<int>(it->second);
   if (auto it = in.params.find("settle_cycles"); it != in.params.end()) o.settle_cycles = static_cast<int>(it->second);
   if (auto it = in.params.find("timestep_ms"); it != in.params.end()) o.timestep_s = it->second * 1e-3;
+  if (auto it = in.params.find("start_phase"); it != in.params.end()) o.start_phase = it->second;
   const GaitResult g = EvaluateGait(**robot, values, in.genes, o);
   r.metrics["simulated_s"] = g.simulated_s;
   if (!g.valid) {

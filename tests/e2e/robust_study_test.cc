@@ -1,0 +1,77 @@
+// A robust caterpillar study (objective.robust: numeric variants, start phases and sampled
+// force, through the real CLI, coordinator, workers and SQLite) gives the same individuals
+// with one worker and, killed with -9 and resumed, with two; each member's fitness is kept
+// in the metrics.
+#include <chrono>
+#include <string>
+#include <thread>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/e2e/cluster.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::testing {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr char kSpec[] =
+    "name: robust\nseed: 4\npopulation: 6\ngenerations: 30\n"
+    "objective:\n  name: caterpillar.distance\n  params: {cycles: 1, settle_cycles: 0}\n"
+    "  robust:\n    numerics: [\"\", \"simulation.timestep_s=0.00125\"]\n"
+    "    start_phases: 2\n"
+    "    parameters:\n      - {name: actuators.force_n, lo: 8, hi: 9.5}\n"
+    "    statistic: mean_minus_sd\n"
+    "ga:\n  elite: 2\n";
+
+// The study id once `db` holds at least `generations` generations ("" on timeout).
+std::string WaitForGenerations(const std::string& cli, int generations) {
+  for (int i = 0; i < 1200; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    auto list = RunCommand(cli + " list --json");
+    const size_t at = list.out.find("\"generations_done\":");
+    if (at == std::string::npos || std::atoi(list.out.c_str() + at + 19) < generations) continue;
+    const size_t from = list.out.find("\"study_id\":\"") + 12;
+    return list.out.substr(from, list.out.find('"', from) - from);
+  }
+  return "";
+}
+
+TEST(RobustStudy, IgnoresTheWorkerCountAndAKillAndKeepsEveryMember) {
+  TempDir dir;
+  WriteFile(dir.File("spec.yaml"), kSpec);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " --db ";
+  auto whole = RunCommand(cli + "whole.db local spec.yaml --workers 1");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  RunCommand("cd " + dir.path() + " && { " + Bin("gaitforge") +
+             " --db " + dir.File("killed.db") + " local spec.yaml --workers 2 > local.out 2> local.err & "
+             "echo $! > local.pid; }");
+  const std::string id = WaitForGenerations(cli + dir.File("killed.db"), 2);
+  ASSERT_FALSE(id.empty()) << ReadFile(dir.File("local.err"));
+  RunCommand("kill -9 " + std::to_string(std::stoi(ReadFile(dir.File("local.pid")))));
+  // Its coordinator and workers get SIGTERM from the kernel; resume once they are gone.
+  // (The pattern is read from a file so that the shell running pgrep does not match it.)
+  WriteFile(dir.File("orphans.re"), dir.File("killed.db"));
+  for (int i = 0; i < 600; ++i) {
+    if (RunCommand("pgrep -f -- \"$(cat " + dir.File("orphans.re") + ")\"").out.empty()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  auto resume = RunCommand(cli + dir.File("killed.db") + " resume " + id + " --workers 2");
+  ASSERT_EQ(resume.exit_code, 0) << resume.err;
+
+  const std::string q =
+      "SELECT generation, member, hex(genes), valid, fitness FROM individuals "
+      "ORDER BY generation, member";
+  const auto a = Rows(dir.File("whole.db"), q), b = Rows(dir.File("killed.db"), q);
+  EXPECT_EQ(a.size(), 180u);
+  EXPECT_EQ(a, b);
+  auto members = RunCommand(cli + "whole.db individuals " + WaitForGenerations(cli + "whole.db", 30) +
+                            " --generation 0 --json");
+  EXPECT_THAT(members.out, HasSubstr("\"member.3\""));
+  EXPECT_THAT(members.out, HasSubstr("\"robust.sd\""));
+}
+
+}  // namespace
+}  // namespace gaitforge::testing

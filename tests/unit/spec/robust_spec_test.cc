@@ -1,0 +1,78 @@
+// objective.robust in a study spec: defaults filled, the word "standard" expanded to the
+// robot's numeric variants, and every bad value refused naming its field, line and range.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "services/spec/spec_loader.h"
+#include "services/spec/spec_validation.h"
+
+namespace gaitforge::spec {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+absl::StatusOr<v1::StudySpec> Load(const std::string& robust,
+                                   const std::string& objective = "caterpillar.distance") {
+  const std::string text = "seed: 9\npopulation: 10\ngenerations: 2\nga: {elite: 2}\nobjective:\n  name: " +
+                           objective + "\n  robust:\n" + robust;
+  auto loaded = ParseSpec(text, "robust.yaml");
+  if (!loaded.ok()) return loaded.status();
+  ApplyDefaults(&loaded->spec);
+  if (auto s = ValidationStatus(Validate(loaded->spec), &*loaded); !s.ok()) return s;
+  return loaded->spec;
+}
+
+std::string Error(const std::string& robust, const std::string& objective = "caterpillar.distance") {
+  auto s = Load(robust, objective);
+  return s.ok() ? "accepted" : std::string(s.status().message());
+}
+
+TEST(RobustSpec, DefaultsAndTheStandardNumerics) {
+  auto spec = Load("    numerics: [standard]\n    start_phases: 2\n");
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const auto& r = spec->objective().robust();
+  EXPECT_EQ(r.numerics_size(), 6);  // the caterpillar has every standard variant
+  EXPECT_EQ(r.numerics(0), "");
+  EXPECT_EQ(r.numerics(1), "simulation.timestep_s=0.0005");
+  EXPECT_EQ(r.members(), 12);  // one per variant and phase
+  EXPECT_EQ(r.seed(), 9u);     // the study's
+  EXPECT_EQ(r.statistic(), "mean");
+  EXPECT_EQ(r.quantile(), 0.25);
+  EXPECT_EQ(r.k(), 1);
+}
+
+TEST(RobustSpec, BadValuesNameTheirFieldAndRange) {
+  EXPECT_THAT(Error("    members: 0\n"),
+              AllOf(HasSubstr("robust.yaml:8:5: field 'objective.robust.members' = 0 is out of "
+                              "range [1, 256]")));
+  EXPECT_THAT(Error("    statistic: quantile\n    quantile: 1.5\n"),
+              HasSubstr("field 'objective.robust.quantile' = 1.5 must lie in (0, 1)"));
+  EXPECT_THAT(Error("    statistic: median\n"),
+              HasSubstr("'median' is not one of mean, quantile, mean_minus_sd"));
+  EXPECT_THAT(Error("    parameters:\n      - {name: actuators.force_n, lo: 5, hi: 200}\n"),
+              AllOf(HasSubstr("field 'objective.robust.parameters[0].name'"),
+                    HasSubstr("actuators.force_n"), HasSubstr("[0, 100]")));
+  EXPECT_THAT(Error("    parameters:\n      - {name: actuators.forse_n, lo: 5, hi: 9}\n"),
+              HasSubstr("nearest: actuators.force_n"));
+  EXPECT_THAT(Error("    parameters:\n      - {name: scale.mass, lo: 1.2, hi: 0.8}\n"),
+              HasSubstr("needs finite lo <= hi"));
+  EXPECT_THAT(Error("    numerics: [\"simulation.timestep_s=0.5\"]\n"),
+              HasSubstr("field 'objective.robust.numerics[0]'"));
+  EXPECT_THAT(Error("    numerics: [fast]\n"), HasSubstr("must be NAME=VALUE"));
+  EXPECT_THAT(Error("    members: 2\n", "analytic.sphere"),
+              HasSubstr("analytic.sphere takes no robust evaluation; objectives that do: "
+                        "caterpillar.distance, robot.distance"));
+}
+
+TEST(RobustSpec, AValidEnsembleIsAccepted) {
+  auto spec = Load(
+      "    members: 8\n    numerics: [\"\", \"ground.contact_cfm=3e-5\"]\n"
+      "    parameters:\n      - {name: scale.link_stiffness, lo: 0.8, hi: 1.25}\n"
+      "    statistic: mean_minus_sd\n    k: 0.5\n");
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  EXPECT_EQ(spec->objective().robust().members(), 8);
+}
+
+}  // namespace
+}  // namespace gaitforge::spec
