@@ -1,5 +1,7 @@
 #include "robots/controllers.h"
 
+#include <cmath>
+
 namespace gaitforge::robots {
 namespace {
 
@@ -15,6 +17,23 @@ std::vector<Gene> PhaseOnOffGenes(const Controller& c) {
 }
 
 double PhaseOnOffPeriod(const std::vector<double>& genes) { return genes.back(); }
+
+double Wrap01(double x) {
+  const double w = x - std::floor(x);
+  return w >= 1.0 ? 0.0 : w;
+}
+
+std::vector<double> PhaseOnOffCommands(const std::vector<double>& genes, double t) {
+  const size_t n = (genes.size() - 1) / 2;
+  const double period = genes.back();
+  const double phase = std::fmod(t, period) / period;  // in [0, 1) for t >= 0
+  std::vector<double> out(n);
+  for (size_t j = 0; j < n; ++j) {
+    const double a = Wrap01(genes[j]), d = Wrap01(genes[n + j]);
+    out[j] = (a <= d ? (phase >= a && phase < d) : (phase >= a || phase < d)) ? 1.0 : 0.0;
+  }
+  return out;
+}
 
 // A sine per actuator about an offset, all at one frequency f (paper 001): actuator j's
 // target is off_j + amp_j sin(2 pi (f t + phase_j)). Genes: f (Hz), then per actuator
@@ -34,6 +53,17 @@ std::vector<Gene> SineGenes(const Controller& c) {
 
 double SinePeriod(const std::vector<double>& genes) { return 1.0 / genes.front(); }
 
+std::vector<double> SineCommands(const std::vector<double>& genes, double t) {
+  const size_t n = (genes.size() - 1) / 3;
+  const double f = genes[0];
+  std::vector<double> out(n);
+  for (size_t k = 0; k < n; ++k) {
+    const double amp = genes[1 + 3 * k], off = genes[2 + 3 * k], phase = genes[3 + 3 * k];
+    out[k] = off + amp * std::sin(2 * M_PI * (f * t + phase));
+  }
+  return out;
+}
+
 }  // namespace
 
 const std::vector<ControllerKind>& ControllerKinds() {
@@ -43,13 +73,15 @@ const std::vector<ControllerKind>& ControllerKinds() {
        "activation and a deactivation phase in [0, 1), then the period T (paper 000)",
        {"period_s"},
        &PhaseOnOffGenes,
-       &PhaseOnOffPeriod},
+       &PhaseOnOffPeriod,
+       &PhaseOnOffCommands},
       {"sine",
        "a sine per actuator about an offset at one shared frequency: genes f, then per "
        "actuator amp_, off_, phase_ (paper 001)",
        {"frequency_hz", "amplitude_rad", "offset_rad"},
        &SineGenes,
-       &SinePeriod},
+       &SinePeriod,
+       &SineCommands},
   };
   return kinds;
 }

@@ -19,6 +19,10 @@ struct ControllerKind {
   std::vector<Gene> (*genes)(const Controller&);
   // The gait period (s) of a genotype of this kind.
   double (*period_s)(const std::vector<double>& genes);
+  // Each of the controller's actuators' command at time t >= 0 (s), in its `actuators`
+  // order: phase_onoff 1 (ON) or 0 (OFF); sine the set-point angle (rad). The genes must
+  // be a genotype of this kind (the gene space's count).
+  std::vector<double> (*commands)(const std::vector<double>& genes, double t);
 };
 
 const std::vector<ControllerKind>& ControllerKinds();

@@ -129,11 +129,12 @@ def _world(th, px, pz):
 
 
 class Rig:
-    """A batch of runs of one gait; `effects` one dict per run (see EFFECTS)."""
+    """A batch of runs of one gait (genes: 13 numbers), or of one gait per run (genes:
+    one row of 13 per run); `effects` one dict per run (see EFFECTS)."""
 
     def __init__(self, genes, effects):
         self.genes = np.asarray(genes, dtype=float)
-        self.period = self.genes[12]
+        self.period = self.genes[..., 12]
         self.b = len(effects)
         self.eff = effects
         lump_x = np.repeat(np.arange(6) * SPACING, SUB) + np.tile((2 * np.arange(SUB) + 1) * A - LUMP_X / 2, 6)
@@ -165,6 +166,12 @@ class Rig:
         self.dscale = np.where(_INNER[None, :], 1.0, loss[:, None])
 
     def on(self, t):
+        """The ON mask: (6,) for one gait, (runs, 6) for a gait per run."""
+        if self.genes.ndim == 2:
+            period = self.period[:, None]
+            phase = (t % period) / period
+            a, d = self.genes[:, :6] % 1.0, self.genes[:, 6:12] % 1.0
+            return np.where(a <= d, (phase >= a) & (phase < d), (phase >= a) | (phase < d))
         phase = (t % self.period) / self.period
         a, d = self.genes[:6] % 1.0, self.genes[6:12] % 1.0
         return np.where(a <= d, (phase >= a) & (phase < d), (phase >= a) | (phase < d))
@@ -212,8 +219,9 @@ class Rig:
                  + cs * self.dscale * T.c_b * (self.w[:, T.f] - self.w[:, T.r]))
         self._scatter(fx, fz, tq, T, gx, gz, fox, foz, rox, roz, bend)
         on = self.on(self.t).astype(float)
+        on = on if on.ndim == 2 else on[None, :]
         tau = np.array([e.get("actuator_lag_s", 0.0) for e in self.eff])
-        target = FORCE_N * on[None, :] * np.array([e.get("force_scale", 1.0) for e in self.eff])[:, None]
+        target = FORCE_N * on * np.array([e.get("force_scale", 1.0) for e in self.eff])[:, None]
         alpha = np.where(tau > 0, 1 - np.exp(-H / np.maximum(tau, 1e-12)), 1.0)[:, None]
         self.lag_force += alpha * (target - self.lag_force)
         T = _AT
@@ -318,6 +326,27 @@ def simulate(genes, effects, settle=2, cycles=10, rate_hz=100):
     if rig.diverged().any():
         raise RuntimeError("rig2d: a run diverged")
     return times, samples
+
+
+def travel(genes, effects, settle=1, cycles=5):
+    """Forward travel per cycle (m) of the markers' mean x, run i with gait genes[i] and
+    effects[i], over `cycles` periods after `settle`; NaN for a run that diverged."""
+    rig = Rig(np.asarray(genes, dtype=float), effects)
+    start, end = settle * rig.period, (settle + cycles) * rig.period
+    x0 = np.full(rig.b, np.nan)
+    x1 = np.full(rig.b, np.nan)
+    while True:
+        x = rig.markers()[:, :, 0].mean(axis=1)
+        take0 = np.isnan(x0) & (rig.t >= start - H / 2)
+        x0[take0] = x[take0]
+        take1 = np.isnan(x1) & (rig.t >= end - H / 2)
+        x1[take1] = x[take1]
+        if not np.isnan(x1).any():
+            break
+        rig.step()
+    out = (x1 - x0) / cycles
+    out[rig.diverged()] = np.nan
+    return out
 
 
 def write_csv(path, times, markers):

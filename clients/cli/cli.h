@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "gaitforge/v1/diagnosis.grpc.pb.h"
 #include "gaitforge/v1/study.grpc.pb.h"
 
@@ -126,6 +127,16 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
 
 int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
               const std::string& out_dir);
+// A study's hall of fame (latest, or generation >= 0), and its error as the exit code.
+absl::StatusOr<v1::GetHallOfFameResponse> Hof(v1::StudyService::Stub& stub, const std::string& id,
+                                              int generation, const GlobalOptions& g);
+int HofError(const absl::Status& s, const std::string& what);
+// Hall-of-fame entry `rank` of study `id` (latest generation, or generation >= 0) and the
+// study; kOk, or the exit code after printing why not (`what` names the command).
+int RankedGait(const GlobalOptions& g, const std::string& id, int generation, int rank,
+               const std::string& what, v1::Individual* gait, v1::StudySummary* study);
+int CmdExport(const GlobalOptions& g, const std::vector<std::string>& args, int rank,
+              int generation, const std::string& out, double rate, int cycles);
 int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, int rank,
                   int generation, const std::string& out, double rate, int cycles);
 // The figures a study's objective and robot offer, after its fitness curve: a calibration's

@@ -68,6 +68,16 @@ std::vector<CommandHelp> Build() {
        "and writes its markers m1..m6 in the recording CSV format with a JSON sidecar.",
        Connection({"output", "rank", "generation", "rate", "cycles"}),
        "gaitforge trajectory paper-ga-1c2d3e --rank 0 --rate 100 --output best.csv"},
+      {"export", "ID --output FILE.csv",
+       "a hall-of-fame gait as the command timeline a robot's controller plays\n"
+       "                  (--output FILE.csv, --rank R, --generation G, --rate HZ, --cycles N)",
+       "Writes the controller commands of hall-of-fame gait --rank R (latest generation, or\n"
+       "--generation G) at --rate HZ over --cycles N whole cycles: columns t, then one per\n"
+       "actuator (on/off valves 1/0, servos their set-point in rad). --json adds each valve's\n"
+       "ON windows in one cycle, or each servo's fastest set-point change against its speed\n"
+       "limit (a warning on stderr when it exceeds it).",
+       Connection({"output", "rank", "generation", "rate", "cycles"}),
+       "gaitforge export paper-ga-1c2d3e --rank 0 --rate 200 --cycles 5 --output gait.csv"},
       {"diagnose", "SPEC",
        "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
        "                  fit it and show the held-out error fall (docs/diagnosis.md)",

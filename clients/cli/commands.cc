@@ -211,11 +211,22 @@ int CmdHof(const GlobalOptions& g, const std::vector<std::string>& args, int gen
     return kOk;
   }
   std::cout << "hall of fame after generation " << resp.generation() << "\n";
-  std::cout << absl::StrFormat("%4s %10s %12s  %s\n", "RANK", "FROM", "FITNESS", "GENES");
+  // A robust study's prediction: the ensemble mean, with its spread (min..max).
+  const bool robust = resp.entries_size() > 0 &&
+                      resp.entries(0).individual().evaluation().metrics().count("robust.mean");
+  std::cout << absl::StrFormat("%4s %10s %12s  %s%s\n", "RANK", "FROM", "FITNESS",
+                               robust ? "PREDICTED [MIN, MAX]            " : "", "GENES");
   for (const auto& e : resp.entries()) {
-    std::cout << absl::StrFormat("%4d %5d/%-4d %12s  %s\n", e.rank(),
+    const auto& m = e.individual().evaluation().metrics();
+    std::string predicted;
+    if (robust && m.count("robust.mean"))
+      predicted = absl::StrFormat("%-32s", absl::StrFormat("%.4g [%.4g, %.4g]", m.at("robust.mean"),
+                                                           m.at("robust.min"), m.at("robust.max")));
+    else if (robust)
+      predicted = std::string(32, ' ');
+    std::cout << absl::StrFormat("%4d %5d/%-4d %12s  %s%s\n", e.rank(),
                                  e.individual().generation(), e.individual().member(),
-                                 TableFitness(e.individual().evaluation()),
+                                 TableFitness(e.individual().evaluation()), predicted,
                                  Genes(e.individual().genes()));
   }
   return kOk;

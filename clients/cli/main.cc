@@ -41,15 +41,15 @@ int main(int argc, char** argv) {
   std::string token_file;
   flags.Add("token-file", &token_file, "file holding the client token (else env GAITFORGE_TOKEN)");
   flags.Add("out", &out_dir, "plot/report/local: directory for figures");
-  flags.Add("output", &output, "trajectory: CSV file to write");
+  flags.Add("output", &output, "trajectory/export: CSV file to write");
   flags.Add("sidecar", &sidecar, "recording add: the JSON sidecar (default FILE.csv.json)");
   std::string robot_file;
   flags.Add("robot", &robot_file,
             "recording add: the descriptor of the robot the recording names when it is not "
             "built in (docs/robots.md)");
-  flags.Add("rank", &rank, "trajectory: hall-of-fame rank (0 = best)");
-  flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz");
-  flags.Add("cycles", &cycles, "trajectory: measured gait cycles");
+  flags.Add("rank", &rank, "trajectory/export: hall-of-fame rank (0 = best)");
+  flags.Add("rate", &rate, "trajectory: marker sampling rate; export: command rate, Hz");
+  flags.Add("cycles", &cycles, "trajectory: measured gait cycles; export: cycles written");
   std::string dashboard = "127.0.0.1:0";
   flags.Add("dashboard", &dashboard,
             "local/resume/diagnose/dashboard: serve the web dashboard at HOST:PORT (port 0: any "
@@ -121,6 +121,7 @@ int main(int argc, char** argv) {
   if (cmd == "robots") return cli::CmdRobots(g, args);
   if (cmd == "recording") return cli::CmdRecording(g, args, sidecar, robot_file);
   if (cmd == "report") return cli::CmdReport(g, args, out_dir);
+  if (cmd == "export") return cli::CmdExport(g, args, rank, generation, output, rate, cycles);
   if (cmd == "trajectory")
     return cli::CmdTrajectory(g, args, rank, generation, output, rate, cycles);
   if (cmd == "health") return cli::CmdHealth(g, args);

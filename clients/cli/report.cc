@@ -29,24 +29,6 @@ std::string GenesArg(const v1::Individual& ind) {
   return absl::StrJoin(g, ",");
 }
 
-absl::StatusOr<v1::GetHallOfFameResponse> Hof(v1::StudyService::Stub& stub, const std::string& id,
-                                              int generation, const GlobalOptions& g) {
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetHallOfFameRequest req;
-  req.set_study_id(id);
-  if (generation >= 0) req.set_generation(generation);
-  v1::GetHallOfFameResponse resp;
-  grpc::Status s = stub.GetHallOfFame(&ctx, req, &resp);
-  if (!s.ok()) return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
-  return resp;
-}
-
-int HofError(const absl::Status& s, const std::string& what) {
-  return ReportRpcError(grpc::Status(static_cast<grpc::StatusCode>(s.code()),
-                                     std::string(s.message())),
-                        what);
-}
 
 // The study's model as gaitforge-sim flags: the objective's `set` overrides (a corrected
 // model), its timestep and settling cycles. `timestep_s` gets the step the study ran at
@@ -99,6 +81,43 @@ std::string TimestepCheck(const std::string& sim, const std::string& genes,
 }
 
 }  // namespace
+
+absl::StatusOr<v1::GetHallOfFameResponse> Hof(v1::StudyService::Stub& stub, const std::string& id,
+                                              int generation, const GlobalOptions& g) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetHallOfFameRequest req;
+  req.set_study_id(id);
+  if (generation >= 0) req.set_generation(generation);
+  v1::GetHallOfFameResponse resp;
+  grpc::Status s = stub.GetHallOfFame(&ctx, req, &resp);
+  if (!s.ok()) return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
+  return resp;
+}
+
+int HofError(const absl::Status& s, const std::string& what) {
+  return ReportRpcError(grpc::Status(static_cast<grpc::StatusCode>(s.code()),
+                                     std::string(s.message())),
+                        what);
+}
+
+int RankedGait(const GlobalOptions& g, const std::string& id, int generation, int rank,
+               const std::string& what, v1::Individual* gait, v1::StudySummary* study) {
+  int code = kOk;
+  auto conn = Connect(g, false, &code);
+  if (!conn) return code;
+  auto hof = Hof(conn->study(), id, generation, g);
+  if (!hof.ok()) return HofError(hof.status(), what + " " + id);
+  if (rank < 0 || rank >= hof->entries_size()) {
+    std::cerr << "gaitforge: --rank = " << rank << " is out of range [0, "
+              << hof->entries_size() - 1 << "]\n";
+    return kNotFound;
+  }
+  *gait = hof->entries(rank).individual();
+  if (grpc::Status s = FetchStudy(conn->study(), g, id, study); !s.ok())
+    return ReportRpcError(s, what + " " + id);
+  return kOk;
+}
 
 int PaperGaitReport(v1::StudyService::Stub& stub, const v1::StudySummary& study,
                     const std::string& out_dir, const GlobalOptions& g, int top,
@@ -189,24 +208,16 @@ int CmdTrajectory(const GlobalOptions& g, const std::vector<std::string>& args, 
                  "[--rank R] [--generation G] [--rate HZ] [--cycles N]\n";
     return kUsage;
   }
-  int code = kOk;
-  auto conn = Connect(g, false, &code);
-  if (!conn) return code;
-  auto hof = Hof(conn->study(), args[0], generation, g);
-  if (!hof.ok()) return HofError(hof.status(), "trajectory " + args[0]);
-  if (rank < 0 || rank >= hof->entries_size()) {
-    std::cerr << "gaitforge: --rank = " << rank << " is out of range [0, "
-              << hof->entries_size() - 1 << "]\n";
-    return kNotFound;
-  }
-  // The study's own model (a corrected model's `set`, its timestep and settling).
+  // The gait, and the study's own model (a corrected model's `set`, its timestep and
+  // settling).
+  v1::Individual gait;
   v1::StudySummary study;
-  if (grpc::Status s = FetchStudy(conn->study(), g, args[0], &study); !s.ok())
-    return ReportRpcError(s, "trajectory " + args[0]);
+  int code = RankedGait(g, args[0], generation, rank, "trajectory", &gait, &study);
+  if (code != kOk) return code;
   double timestep_s = 0;
   std::string printed;
   code = RunCapture(Concat({SiblingBinary("gaitforge-sim"), "trajectory", "--genes",
-                            GenesArg(hof->entries(rank).individual()), "--out", out, "--rate",
+                            GenesArg(gait), "--out", out, "--rate",
                             absl::StrFormat("%.17g", rate), "--cycles", std::to_string(cycles)},
                            StudyModelFlags(study.spec().objective(), &timestep_s)),
                     &printed);

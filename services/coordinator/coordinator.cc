@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "services/coordinator/metrics.h"
 #include "services/coordinator/constraints.h"
+#include "services/coordinator/from_diagnosis.h"
 #include "services/spec/engine_kinds.h"
 #include "services/spec/spec_validation.h"
 
@@ -87,6 +88,7 @@ absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
 absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   if (options_.read_only)
     return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
+  if (auto s = ResolveFromDiagnosis(*store_, &spec); !s.ok()) return s;
   spec::ApplyDefaults(&spec);
   if (auto s = spec::ValidationStatus(spec::Validate(spec)); !s.ok()) return s;
   if (auto s = recordings_->CheckExist(spec.objective().recordings(), "objective.recordings");
@@ -500,6 +502,9 @@ absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::str
   v1::GetHallOfFameResponse out;
   out.set_generation(hof->first);
   for (double x : SpreadAfter(id, hof->first)) out.add_spread(x);
+  // Each entry's metrics, from the generation it was evaluated in (a robust study's
+  // predicted travel and spread among them).
+  std::map<int, std::vector<storage::IndividualRecord>> evaluated;
   for (const auto& h : hof->second) {
     auto* e = out.add_entries();
     e->set_rank(h.rank);
@@ -509,6 +514,13 @@ absl::StatusOr<v1::GetHallOfFameResponse> Coordinator::HallOfFame(const std::str
     for (double x : h.genes) ind->add_genes(x);
     ind->mutable_evaluation()->set_valid(h.valid);
     ind->mutable_evaluation()->set_fitness(h.fitness);
+    if (!evaluated.count(h.origin_generation)) {
+      auto rows = store_->Individuals(id, h.origin_generation);
+      evaluated[h.origin_generation] = rows.ok() ? *rows : std::vector<storage::IndividualRecord>{};
+    }
+    for (const auto& row : evaluated[h.origin_generation])
+      if (row.member == h.origin_member)
+        for (const auto& [k, v] : row.metrics) (*ind->mutable_evaluation()->mutable_metrics())[k] = v;
   }
   return out;
 }

@@ -85,6 +85,32 @@ TEST(RobotStudy, TheGapFinderFindsATetherConcealedInTheFixtureRobotsRecordings) 
   EXPECT_THAT(r.out, HasSubstr("tail"));
   // The corrected model names the robot's descriptor, written beside it.
   EXPECT_THAT(r.out, HasSubstr("corrected-model.yaml"));
+
+  // Closing the loop: a robust gait study from the diagnosis evolves on the corrected
+  // model over the tether's fitted range, and its hall of fame predicts with an interval.
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " --db d.db";
+  const std::string listed = RunCommand(cli + " diagnoses --json").out;
+  ASSERT_TRUE(std::regex_search(listed, m, std::regex(R"re("diagnosis_id":\s*"([^"]+)")re"))) << listed;
+  WriteFile(dir.File("g.yaml"), "name: twobox-robust\nseed: 1\npopulation: 6\ngenerations: 2\n"
+                                "ga: {elite: 2}\nobjective:\n  name: robot.distance\n  robot: " +
+                                    Fixture() + "\n  from_diagnosis: " + m[1].str() +
+                                    "\n  robust: {members: 4}\n");
+  auto g = RunCommand(cli + " local g.yaml --workers 2 --dashboard off");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const std::string studies = RunCommand(cli + " list --json").out;
+  ASSERT_TRUE(std::regex_search(studies, m, std::regex(R"re("study_id":\s*"(twobox-robust[^"]*)")re"))) << studies;
+  const std::string show = RunCommand(cli + " show " + m[1].str() + " --json").out;
+  EXPECT_THAT(show, HasSubstr("effect.tether_force_n="));  // the corrected model's set
+  EXPECT_TRUE(std::regex_search(show, std::regex(R"re("parameters":\s*\[[^\]]*\{"name":\s*"effect.tether_force_n","lo")re")))
+      << show;
+  EXPECT_THAT(RunCommand(cli + " hof " + m[1].str()).out, HasSubstr("PREDICTED [MIN, MAX]"));
+  // A diagnosis that does not exist is refused, naming the field.
+  WriteFile(dir.File("none.yaml"), std::regex_replace(ReadFile(dir.File("g.yaml")),
+                                                      std::regex("from_diagnosis: .*"),
+                                                      "from_diagnosis: no-such-diagnosis"));
+  auto none = RunCommand(cli + " local none.yaml --workers 1 --dashboard off");
+  EXPECT_EQ(none.exit_code, 3) << none.err;
+  EXPECT_THAT(none.err, HasSubstr("objective.from_diagnosis: no diagnosis with id 'no-such-diagnosis'"));
 }
 
 }  // namespace

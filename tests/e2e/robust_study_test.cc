@@ -2,7 +2,9 @@
 // force, through the real CLI, coordinator, workers and SQLite) gives the same individuals
 // with one worker and, killed with -9 and resumed, with two; each member's fitness is kept
 // in the metrics.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <thread>
 
@@ -67,10 +69,26 @@ TEST(RobustStudy, IgnoresTheWorkerCountAndAKillAndKeepsEveryMember) {
   const auto a = Rows(dir.File("whole.db"), q), b = Rows(dir.File("killed.db"), q);
   EXPECT_EQ(a.size(), 180u);
   EXPECT_EQ(a, b);
-  auto members = RunCommand(cli + "whole.db individuals " + WaitForGenerations(cli + "whole.db", 30) +
-                            " --generation 0 --json");
+  const std::string whole_id = WaitForGenerations(cli + "whole.db", 30);
+  auto members = RunCommand(cli + "whole.db individuals " + whole_id + " --generation 0 --json");
   EXPECT_THAT(members.out, HasSubstr("\"member.3\""));
   EXPECT_THAT(members.out, HasSubstr("\"robust.sd\""));
+
+  // The best gait as the valves' timeline: 1/0 per actuator, consistent with its windows.
+  auto exported = RunCommand(cli + "whole.db export " + whole_id +
+                             " --rank 0 --rate 200 --cycles 2 --output gait.csv --json");
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_THAT(exported.out, HasSubstr("\"controller\":\"phase_onoff\""));
+  EXPECT_THAT(exported.out, HasSubstr("\"on_windows_s\":["));
+  const std::string csv = ReadFile(dir.File("gait.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "t,T1,T2,T3,B1,B2,B3");
+  const size_t at = exported.out.find("\"period_s\":") + 11;
+  const double period = std::atof(exported.out.c_str() + at);
+  const size_t lines = std::count(csv.begin(), csv.end(), '\n');
+  EXPECT_EQ(lines, 1 + static_cast<size_t>(std::floor(2 * period * 200 + 1e-9)) + 1);
+  EXPECT_EQ(csv.find_first_not_of("0123456789.,-\ntTB"), std::string::npos);
+  auto bad = RunCommand(cli + "whole.db export " + whole_id + " --rank 99 --output x.csv");
+  EXPECT_EQ(bad.exit_code, 3);
 }
 
 }  // namespace

@@ -74,5 +74,31 @@ TEST(RobustSpec, AValidEnsembleIsAccepted) {
   EXPECT_EQ(spec->objective().robust().members(), 8);
 }
 
+// The caterpillar's 13 genes with the period marked circular, or a phase over half a cycle.
+std::string CircularError(bool mark_period, bool half_phase) {
+  std::string text = "population: 10\ngenerations: 2\nga: {elite: 2}\n"
+                     "objective: {name: caterpillar.distance}\nbounds:\n";
+  for (const char* row : {"a", "d"})
+    for (const char* a : {"T1", "T2", "T3", "B1", "B2", "B3"})
+      text += std::string("  - {name: ") + row + "_" + a + ", lo: 0, hi: " +
+              (half_phase && std::string(a) == "T1" && std::string(row) == "a" ? "0.5" : "1") +
+              ", circular: true}\n";
+  text += std::string("  - {name: T, lo: 0.2, hi: 2") + (mark_period ? ", circular: true" : "") + "}\n";
+  auto loaded = ParseSpec(text, "circ.yaml");
+  if (!loaded.ok()) return std::string(loaded.status().message());
+  ApplyDefaults(&loaded->spec);
+  auto s = ValidationStatus(Validate(loaded->spec), &*loaded);
+  return s.ok() ? "accepted" : std::string(s.message());
+}
+
+TEST(CircularSpec, OnlyWholeCyclePhasesMayBeCircular) {
+  EXPECT_EQ(CircularError(false, false), "accepted");
+  EXPECT_THAT(CircularError(true, false),
+              HasSubstr("field 'bounds[12].circular' 'T' is not a phase of robot caterpillar's "
+                        "controller; only phase genes may be circular"));
+  EXPECT_THAT(CircularError(false, true),
+              HasSubstr("field 'bounds[0].circular' needs 'a_T1' to span one whole cycle"));
+}
+
 }  // namespace
 }  // namespace gaitforge::spec

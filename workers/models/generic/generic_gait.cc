@@ -18,15 +18,12 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
   if (c.kind != "sine")
     return absl::InvalidArgumentError(absl::StrCat(
         "the generic model drives servos with controller kind sine, not ", c.kind));
+  // The controller's commands, in its actuators' order, placed in descriptor order.
+  const std::vector<double> command = robots::FindControllerKind(c.kind)->commands(genes, t);
   std::vector<double> out(d.actuators.size(), 0.0);
-  const double f = genes[0];
-  for (size_t k = 0; k < c.actuators.size(); ++k) {
-    const double amp = genes[1 + 3 * k], off = genes[2 + 3 * k], phase = genes[3 + 3 * k];
-    for (size_t i = 0; i < d.actuators.size(); ++i) {
-      if (d.actuators[i].name == c.actuators[k])
-        out[i] = off + amp * std::sin(2 * M_PI * (f * t + phase));
-    }
-  }
+  for (size_t k = 0; k < c.actuators.size(); ++k)
+    for (size_t i = 0; i < d.actuators.size(); ++i)
+      if (d.actuators[i].name == c.actuators[k]) out[i] = command[k];
   return out;
 }
 
