@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "robots/registry.h"
 #include "services/core/objective_catalog.h"
 #include "services/engines/ga/ga_engine.h"
 
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
   c.seed = 1;
   c.population = 200;
   c.generations = generations;
-  for (const auto& g : core::CaterpillarGaitSpace()) {
+  for (const auto& g : core::GeneSpaceOf(robots::Robot("caterpillar"))) {
     c.bounds.lo.push_back(g.lo);
     c.bounds.hi.push_back(g.hi);
   }

@@ -47,8 +47,8 @@ Input: the JSON of
               how many sds the recorded travel lies off (recorded_sds), and
               per axis the RMS of the detrended difference between each variant's residual
               and the main one (shape_per_variant_m) and the largest (shape_m): the model's
-              own spread. The canonical caterpillar hops, so such variants move its travel by
-              tens of percent (../shared/robots/caterpillar.md): a drift is a mismatch only
+              own spread. A hopping robot's travel moves by tens of percent under such variants
+              (the canonical caterpillar's does): a drift is a mismatch only
               when the recorded travel lies more than 3 sds (+ the drift threshold per cycle)
               from the variants' mean travel, a shape excess only beyond
               sqrt(noise^2 + shape_m^2).
@@ -80,7 +80,7 @@ import numpy as np
 
 def marker_names(columns):
     """The markers among recording columns, in column order: every NAME with a NAME.x, NAME.y
-    or NAME.z column (the caterpillar's m1..m6, any robot's named markers)."""
+    or NAME.z column (any robot's named markers)."""
     names = []
     for c in columns:
         base, _, axis = c.rpartition(".")
@@ -197,11 +197,13 @@ class Recording:
         sim_path = resolve(entry["sim"], base)
         with open(self.file + ".json") as f:
             self.genes = json.load(f)["command"]["genes"]
-        # The gait period the objective compared over (any robot's controller); older
-        # evaluations without it are the caterpillar's, whose 13th gene is the period.
+        # The gait period the objective compared over (any robot's controller).
         metrics = entry.get("metrics", {})
-        self.period = float(metrics["period_s_0"]) if "period_s_0" in metrics \
-            else float(self.genes[12])
+        if "period_s_0" not in metrics:
+            raise SystemExit(f"gaitforge_locate: the evaluation of {self.file} has no metric "
+                             "period_s_0 (the gait period its comparison used); evaluate it "
+                             "again with gaitforge-sim calibration-eval")
+        self.period = float(metrics["period_s_0"])
         self.shift = float(entry.get("time_offset_s", 0.0)) + \
             float(entry.get("metrics", {}).get("time_shift_s_0", 0.0))
         rec, sim = read_csv(self.file), read_csv(sim_path)

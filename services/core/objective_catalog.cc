@@ -14,22 +14,17 @@ std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot) {
 
 namespace {
 
-// The caterpillar's gait space without its phase marks: the analytic objectives borrow its
-// ranges, not its circles.
+// The gene space of the built-in robot `name`'s controller.
+std::vector<GeneRange> GaitSpaceOf(const char* name) { return GeneSpaceOf(robots::Robot(name)); }
+
+// The analytic objectives' default space: the built-in caterpillar's gait ranges (13 genes,
+// the space they were benchmarked in), without its phase marks: they borrow its ranges, not
+// its circles.
 std::vector<GeneRange> AnalyticSpace() {
-  std::vector<GeneRange> space = CaterpillarGaitSpace();
+  std::vector<GeneRange> space = GaitSpaceOf("caterpillar");
   for (auto& g : space) g.circular = false;
   return space;
 }
-
-}  // namespace
-
-const std::vector<GeneRange>& CaterpillarGaitSpace() {
-  static const std::vector<GeneRange> space = GeneSpaceOf(robots::Robot("caterpillar"));
-  return space;
-}
-
-namespace {
 
 // A catalog parameter whose range and default are the robot's parameter `name`, times
 // `factor` (1000 for a timestep in ms).
@@ -101,7 +96,7 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
         FromRobot("timestep_ms", "simulation.timestep_s",
                   "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
         StartPhase()},
-       CaterpillarGaitSpace(), static_cast<int>(CaterpillarGaitSpace().size()),
+       GaitSpaceOf("caterpillar"), static_cast<int>(GaitSpaceOf("caterpillar").size()),
        // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
        {{"set", {}}},
        false,

@@ -54,7 +54,7 @@ struct ObjectiveInfo {
   // parameters `set` may change.
   bool uses_robot = false;
   // The built-in robot whose controller the genes drive, when the objective is bound to
-  // one (caterpillar.distance: caterpillar); empty otherwise (uses_robot: objective.robot).
+  // one (a dedicated model's gait objective); empty otherwise (uses_robot: objective.robot).
   std::string gait_robot;
   // Takes objective.robust (docs/objectives.md, "Robust evaluation"): param start_phase and
   // option set, which an ensemble's members vary.
@@ -69,9 +69,6 @@ absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOfObjective(
 
 // A robot's gene space: its controller's genes (robots/controllers.h).
 std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot);
-// The built-in caterpillar's (robots/caterpillar/robot.yaml): activation and deactivation
-// phases of T1 T2 T3 B1 B2 B3 in [0, 1), then the period T in [0.2, 2.0] s; 13 genes.
-const std::vector<GeneRange>& CaterpillarGaitSpace();
 
 const std::vector<ObjectiveInfo>& ObjectiveCatalog();
 // nullptr when unknown.

@@ -11,6 +11,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 
@@ -100,6 +103,18 @@ void LocalCluster::StartWorkers(int n, int threads, const std::vector<std::strin
     argv.insert(argv.end(), extra_flags.begin(), extra_flags.end());
     workers_.push_back(cli::Spawn(argv, dir_ + "/" + id + ".log"));
   }
+}
+
+std::string WaitForGenerations(const std::string& cli, int generations) {
+  for (int i = 0; i < 1200; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    auto list = RunCommand(cli + " list --json");
+    const size_t at = list.out.find("\"generations_done\":");
+    if (at == std::string::npos || std::atoi(list.out.c_str() + at + 19) < generations) continue;
+    const size_t from = list.out.find("\"study_id\":\"") + 12;
+    return list.out.substr(from, list.out.find('"', from) - from);
+  }
+  return "";
 }
 
 std::string HttpGet(int port, const std::string& path) {

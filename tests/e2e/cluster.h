@@ -22,6 +22,10 @@ struct CommandResult {
 // Runs a command line through /bin/sh and captures its output.
 CommandResult RunCommand(const std::string& command_line);
 
+// The id of the first study `cli` (a "gaitforge --db DB" command line) lists once it has
+// committed at least `generations` generations; "" after 120 s.
+std::string WaitForGenerations(const std::string& cli, int generations);
+
 // GET http://127.0.0.1:port/path; returns the body ("" on failure).
 std::string HttpGet(int port, const std::string& path);
 

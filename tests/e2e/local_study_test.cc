@@ -212,15 +212,7 @@ TEST(EndToEnd, AKilledLocalCommandLeavesNoOrphansAndResumesToTheSameStudy) {
              " local spec.yaml --workers 2 > local.out 2> local.err & echo $! > local.pid; }");
   const std::string pid = std::to_string(std::stoi(ReadFile(dir.File("local.pid"))));
   // Wait until generations are stored (a read-only coordinator answers beside the writer).
-  std::string id;
-  for (int i = 0; i < 600 && id.empty(); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    auto list = RunCommand(cli + killed + " list --json");
-    const size_t at = list.out.find("\"generations_done\":");
-    if (at == std::string::npos || std::atoi(list.out.c_str() + at + 19) < 3) continue;
-    const size_t from = list.out.find("\"study_id\":\"") + 12;
-    id = list.out.substr(from, list.out.find('"', from) - from);
-  }
+  const std::string id = WaitForGenerations(cli + killed, 3);
   ASSERT_FALSE(id.empty()) << ReadFile(dir.File("local.err"));
   ASSERT_EQ(RunCommand("kill -9 " + pid).exit_code, 0);
   // Its coordinator (the only process with this database on its command line) and workers

@@ -27,19 +27,6 @@ constexpr char kSpec[] =
     "    statistic: mean_minus_sd\n"
     "ga:\n  elite: 2\n";
 
-// The study id once `db` holds at least `generations` generations ("" on timeout).
-std::string WaitForGenerations(const std::string& cli, int generations) {
-  for (int i = 0; i < 1200; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    auto list = RunCommand(cli + " list --json");
-    const size_t at = list.out.find("\"generations_done\":");
-    if (at == std::string::npos || std::atoi(list.out.c_str() + at + 19) < generations) continue;
-    const size_t from = list.out.find("\"study_id\":\"") + 12;
-    return list.out.substr(from, list.out.find('"', from) - from);
-  }
-  return "";
-}
-
 TEST(RobustStudy, IgnoresTheWorkerCountAndAKillAndKeepsEveryMember) {
   TempDir dir;
   WriteFile(dir.File("spec.yaml"), kSpec);
