@@ -166,6 +166,7 @@ std::string StateName(v1::StudyState s) {
     case v1::STUDY_STATE_CANCELLED: return "cancelled";
     case v1::STUDY_STATE_COMPLETED: return "completed";
     case v1::STUDY_STATE_FAILED: return "failed";
+    case v1::STUDY_STATE_INTERRUPTED: return "interrupted";
     default: return "unknown";
   }
 }

@@ -119,7 +119,7 @@ int CmdWatch(const GlobalOptions& g, const std::vector<std::string>& args) {
     v1::StudySummary study;
     grpc::Status s = FetchStudy(conn->study(), g, args[0], &study);
     if (!s.ok()) return ReportRpcError(s, "watch " + args[0]);
-    if (study.state() == v1::STUDY_STATE_RUNNING) {
+    if (study.state() == v1::STUDY_STATE_RUNNING || study.state() == v1::STUDY_STATE_INTERRUPTED) {
       std::cerr << "gaitforge: study " << args[0] << " is interrupted: no coordinator runs it "
                 << "(the one that did stopped or was killed); " << ContinueHint(g, args[0])
                 << "\n";

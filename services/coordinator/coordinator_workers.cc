@@ -370,6 +370,9 @@ v1::StudySummary Coordinator::Summarize(const storage::StudyRecord& r) const {
       {"failed", v1::STUDY_STATE_FAILED}};
   auto it = states.find(r.state);
   out.set_state(it == states.end() ? v1::STUDY_STATE_UNSPECIFIED : it->second);
+  // A read-only coordinator runs nothing, so a study stored as running is held by no one here.
+  if (options_.read_only && out.state() == v1::STUDY_STATE_RUNNING)
+    out.set_state(v1::STUDY_STATE_INTERRUPTED);
   out.set_generations_done(r.generations_done);
   out.set_best_fitness(r.best_fitness.value_or(NAN));
   out.set_mean_fitness(r.mean_fitness.value_or(NAN));

@@ -104,6 +104,17 @@ TEST_F(Interrupt, ALostCoordinatorAndCtrlCSayHowToContinue) {
             std::string::npos)
       << watch.err;
   EXPECT_NE(watch.err.find(hint), std::string::npos) << watch.err;
+  // The dashboard of the unheld file says so too, as `list --json` does.
+  EXPECT_NE(Cli("list --json").out.find("STUDY_STATE_INTERRUPTED"), std::string::npos);
+  const std::string dash = Background("dashboard --dashboard 127.0.0.1:0", "dash");
+  ASSERT_TRUE(WaitFor([&] { return ReadFile(dir_.File("dash.out")).find(':') != std::string::npos; }));
+  const std::string url = ReadFile(dir_.File("dash.out"));
+  const int port = std::atoi(url.c_str() + url.rfind(':') + 1);
+  const std::string studies = HttpGet(port, "/api/studies");
+  EXPECT_NE(studies.find("STUDY_STATE_INTERRUPTED"), std::string::npos) << studies;
+  EXPECT_EQ(studies.find("STUDY_STATE_RUNNING"), std::string::npos) << studies;
+  ASSERT_EQ(RunCommand("kill -INT " + dash).exit_code, 0);
+  ASSERT_TRUE(WaitFor([&] { return Exited(dash); }));
 
   // Ctrl-C during `resume`.
   const int before = std::stoi(Rows(dir_.File("runs/gaitforge.db"),

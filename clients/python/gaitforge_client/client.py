@@ -254,7 +254,7 @@ def _read(path):
 
 def _progress(message):
     row = tables.fields(message)
-    row["state"] = tables.state_name(message.state)
+    row["state"] = tables.state_name(message)
     for key in ("best", "mean"):
         if math.isnan(row[key]):
             row[key] = None

@@ -7,9 +7,6 @@ import os
 from . import spec as specs
 from . import tables
 
-_STATES = {0: "unspecified", 1: "running", 2: "completed", 3: "failed", 4: "cancelled"}
-
-
 def read_spec(spec, upload):
     """A DiagnosisSpec dict from a dict or a YAML/JSON file; a file's training and held_out
     recordings named by path (relative to its folder) are uploaded and named by hash."""
@@ -29,7 +26,7 @@ def read_spec(spec, upload):
 def summary(s):
     """A DiagnosisSummary as a dict: state as a word, the spec as a dict."""
     row = tables.fields(s)
-    row["state"] = _STATES.get(s.state, "unknown")
+    row["state"] = tables.state_name(s)
     row["spec"] = json_spec(s.spec)
     return row
 

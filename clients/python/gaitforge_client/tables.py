@@ -37,18 +37,19 @@ def hof_entry(entry):
 
 def summary(s):
     row = fields(s)
-    row["state"] = state_name(s.state)
+    row["state"] = state_name(s)
     if math.isnan(row["best_fitness"]):
         row["best_fitness"] = None
     row["spec"] = s.spec
     return row
 
 
-def state_name(value):
-    """'running', 'completed', ... from a StudyState number."""
-    names = {0: "unspecified", 1: "running", 2: "paused", 3: "cancelled", 4: "completed",
-             5: "failed"}
-    return names.get(value, str(value))
+def state_name(msg):
+    """'running', 'interrupted', ... : the word of `msg`'s state enum, as the proto names it
+    (STUDY_STATE_RUNNING, DIAGNOSIS_STATE_RUNNING -> running)."""
+    enum = msg.DESCRIPTOR.fields_by_name["state"].enum_type
+    value = enum.values_by_number.get(msg.state)
+    return value.name.split("STATE_", 1)[1].lower() if value else str(msg.state)
 
 
 def table(rows, as_dataframe):
