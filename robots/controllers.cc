@@ -23,7 +23,8 @@ double Wrap01(double x) {
   return w >= 1.0 ? 0.0 : w;
 }
 
-std::vector<double> PhaseOnOffCommands(const std::vector<double>& genes, double t) {
+std::vector<double> PhaseOnOffCommands(const Controller&, const std::vector<double>& genes,
+                                       double t) {
   const size_t n = (genes.size() - 1) / 2;
   const double period = genes.back();
   const double phase = std::fmod(t, period) / period;  // in [0, 1) for t >= 0
@@ -53,7 +54,7 @@ std::vector<Gene> SineGenes(const Controller& c) {
 
 double SinePeriod(const std::vector<double>& genes) { return 1.0 / genes.front(); }
 
-std::vector<double> SineCommands(const std::vector<double>& genes, double t) {
+std::vector<double> SineCommands(const Controller&, const std::vector<double>& genes, double t) {
   const size_t n = (genes.size() - 1) / 3;
   const double f = genes[0];
   std::vector<double> out(n);
@@ -61,6 +62,27 @@ std::vector<double> SineCommands(const std::vector<double>& genes, double t) {
     const double amp = genes[1 + 3 * k], off = genes[2 + 3 * k], phase = genes[3 + 3 * k];
     out[k] = off + amp * std::sin(2 * M_PI * (f * t + phase));
   }
+  return out;
+}
+
+// One sine shared by every actuator, each a fixed fraction of a cycle ahead of the one
+// before it (paper 001's two hips: one frequency, stroke and neutral angle, a small phase
+// offset against pitching). Genes f (Hz), amp (rad), off (rad), lag (cycles): actuator k's
+// target is off + amp sin(2 pi (f t + k lag)).
+std::vector<Gene> SineSyncGenes(const Controller& c) {
+  const auto& f = c.ranges.at("frequency_hz");
+  const auto& amp = c.ranges.at("amplitude_rad");
+  const auto& off = c.ranges.at("offset_rad");
+  const auto& lag = c.ranges.at("lag_cycles");
+  return {{"f", f[0], f[1]}, {"amp", amp[0], amp[1]}, {"off", off[0], off[1]},
+          {"lag", lag[0], lag[1]}};
+}
+
+std::vector<double> SineSyncCommands(const Controller& c, const std::vector<double>& genes,
+                                     double t) {
+  std::vector<double> out(c.actuators.size());
+  for (size_t k = 0; k < out.size(); ++k)
+    out[k] = genes[2] + genes[1] * std::sin(2 * M_PI * (genes[0] * t + static_cast<double>(k) * genes[3]));
   return out;
 }
 
@@ -74,7 +96,8 @@ const std::vector<ControllerKind>& ControllerKinds() {
        {"period_s"},
        &PhaseOnOffGenes,
        &PhaseOnOffPeriod,
-       &PhaseOnOffCommands},
+       &PhaseOnOffCommands,
+       false},
       {"sine",
        "a sine per actuator about an offset at one shared frequency: genes f, then per "
        "actuator amp_, off_, phase_ (paper 001)",
@@ -82,6 +105,13 @@ const std::vector<ControllerKind>& ControllerKinds() {
        &SineGenes,
        &SinePeriod,
        &SineCommands},
+      {"sine_sync",
+       "one sine for every actuator, each lag cycles ahead of the one before: genes f, amp, "
+       "off, lag (paper 001's hips)",
+       {"frequency_hz", "amplitude_rad", "offset_rad", "lag_cycles"},
+       &SineSyncGenes,
+       &SinePeriod,
+       &SineSyncCommands},
   };
   return kinds;
 }

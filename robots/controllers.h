@@ -22,7 +22,10 @@ struct ControllerKind {
   // Each of the controller's actuators' command at time t >= 0 (s), in its `actuators`
   // order: phase_onoff 1 (ON) or 0 (OFF); sine the set-point angle (rad). The genes must
   // be a genotype of this kind (the gene space's count).
-  std::vector<double> (*commands)(const std::vector<double>& genes, double t);
+  std::vector<double> (*commands)(const Controller& c, const std::vector<double>& genes,
+                                  double t);
+  // True when the commands are set-point angles (servos), false for on/off.
+  bool set_points = true;
 };
 
 const std::vector<ControllerKind>& ControllerKinds();

@@ -149,7 +149,12 @@ absl::Status RobotDescriptor::CheckRelations(
 std::vector<std::string> Nearest(std::string_view name, const std::vector<std::string>& known,
                                  size_t count) {
   std::vector<std::pair<size_t, std::string>> scored;
-  for (const auto& k : known) scored.emplace_back(EditDistance(name, k), k);
+  // A name typed short of its unit suffix ("knee.stifness" for knee.stiffness_nm_per_rad)
+  // is near the known name's start: score it there too, one edit worse.
+  for (const auto& k : known)
+    scored.emplace_back(std::min(EditDistance(name, k),
+                                 EditDistance(name, std::string_view(k).substr(0, name.size())) + 1),
+                        k);
   std::stable_sort(scored.begin(), scored.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<std::string> out;

@@ -109,12 +109,13 @@ struct Body {
   Vec3Expr size;      // m, full lengths along the body's x, y, z
   Expr mass;          // kg, uniform density
   Vec3Expr position;  // m, world frame, at the start
+  std::optional<Expr> pitch;  // rad about +y at the start (+: the body's +x tips down)
   Mark mark;
 };
 
 struct Joint {
   std::string name;
-  std::string type;             // "hinge"
+  std::string type;             // "hinge", or "fixed" (welded as built: no other field)
   std::string body1, body2;     // body names; body2 turns relative to body1
   Vec3Expr anchor;              // m, world frame at the start
   std::array<double, 3> axis{}; // unit vector, world frame at the start
@@ -137,6 +138,10 @@ struct Actuator {
 struct Ground {
   Expr friction;  // Coulomb coefficient; its parameter may be infinite (no slip)
   Expr erp, cfm;  // contact softness (ODE's ERP and CFM)
+  // Friction acts at a box's deepest touching corner, bounded by the coefficient times
+  // "corner": that corner's own normal force; "body": the box's whole normal load on the
+  // ground in the step before (Coulomb's law for the box; docs/robots.md).
+  std::string friction_load = "corner";
 };
 
 // The report figure kinds a descriptor may offer (`figures:`; docs/robots.md):

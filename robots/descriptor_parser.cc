@@ -192,8 +192,9 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
     return f.Error(node, path, "axes, spacing, bodies and offset belong to markers");
   } else {
     for (const auto& n : s.names)
-      if (!d.joints.empty() && d.FindJoint(n) == nullptr)
-        return f.Error(node["names"], path + ".names", absl::StrCat("no joint named '", n, "'"));
+      if (const Joint* j = d.FindJoint(n); !d.joints.empty() && (j == nullptr || j->type != "hinge"))
+        return f.Error(node["names"], path + ".names",
+                       absl::StrCat(j ? "a fixed joint has no angle: '" : "no joint named '", n, "'"));
   }
   d.sensors.push_back(std::move(s));
   return absl::OkStatus();

@@ -61,7 +61,8 @@ Status CheckNewName(const YamlFields& f, const YAML::Node& node, const std::stri
 
 Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& path,
                  RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position"}); !s.ok())
+  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position", "pitch"});
+      !s.ok())
     return s;
   Body b;
   b.mark = f.MarkOf(n);
@@ -77,6 +78,7 @@ Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& pa
   if (Status s = ReadVec(f, n["size"], path + ".size", d, b.size); !s.ok()) return s;
   if (Status s = ReadExpr(f, n["mass"], path + ".mass", d, b.mass); !s.ok()) return s;
   if (Status s = ReadVec(f, n["position"], path + ".position", d, b.position); !s.ok()) return s;
+  if (Status s = ReadOptional(f, n, "pitch", path, d, b.pitch); !s.ok()) return s;
   d.bodies.push_back(std::move(b));
   return absl::OkStatus();
 }
@@ -125,7 +127,8 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
     return s;
   auto type = f.String(n["type"], path + ".type");
   if (!type.ok()) return type.status();
-  if (*type != "hinge") return f.Error(n["type"], path + ".type", "must be hinge");
+  if (*type != "hinge" && *type != "fixed")
+    return f.Error(n["type"], path + ".type", "must be hinge or fixed");
   j.type = *type;
   const YAML::Node bodies = n["bodies"];
   if (!bodies.IsSequence() || bodies.size() != 2)
@@ -133,6 +136,12 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
   if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, j.body1); !s.ok()) return s;
   if (Status s = ReadBodyName(f, bodies[1], path + ".bodies[1]", d, j.body2); !s.ok()) return s;
   if (j.body1 == j.body2) return f.Error(bodies, path + ".bodies", "must name two bodies");
+  if (j.type == "fixed") {
+    // Welds body2 to body1 as built: nothing else to say.
+    if (Status s = f.CheckMap(n, path, {"name", "type", "bodies"}); !s.ok()) return s;
+    d.joints.push_back(std::move(j));
+    return absl::OkStatus();
+  }
   if (Status s = ReadVec(f, n["anchor"], path + ".anchor", d, j.anchor); !s.ok()) return s;
   if (Status s = ParseAxis(f, n["axis"], path + ".axis", j.axis); !s.ok()) return s;
   for (auto [key, out] : {std::pair{"stiffness", &j.stiffness}, std::pair{"damping", &j.damping},
@@ -161,8 +170,10 @@ Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string
     *out = *v;
   }
   if (a.type != "servo") return f.Error(n["type"], path + ".type", "must be servo");
-  if (d.FindJoint(a.joint) == nullptr)
-    return f.Error(n["joint"], path + ".joint", absl::StrCat("no joint named '", a.joint, "'"));
+  if (const Joint* j = d.FindJoint(a.joint); j == nullptr || j->type != "hinge")
+    return f.Error(n["joint"], path + ".joint",
+                   absl::StrCat(j ? "a servo turns a hinge; '" : "no joint named '", a.joint,
+                                j ? "' is fixed" : "'"));
   for (auto [key, out] : {std::pair{"gain", &a.gain}, std::pair{"max_speed", &a.max_speed},
                           std::pair{"max_torque", &a.max_torque}, std::pair{"lag_s", &a.lag_s}}) {
     if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, *out); !s.ok()) return s;
@@ -211,8 +222,16 @@ Status ParseStructure(const YamlFields& f, const YAML::Node& root, RobotDescript
   if (Status s = ParseList(f, root, "actuators", d, ParseActuator); !s.ok()) return s;
   if (root["ground"]) {
     const YAML::Node g = root["ground"];
-    if (Status s = f.CheckMap(g, "ground", {"friction", "erp", "cfm"}); !s.ok()) return s;
+    if (Status s = f.CheckMap(g, "ground", {"friction", "erp", "cfm", "friction_load"}); !s.ok())
+      return s;
     Ground ground;
+    if (g["friction_load"]) {
+      auto load = f.String(g["friction_load"], "ground.friction_load");
+      if (!load.ok()) return load.status();
+      if (*load != "corner" && *load != "body")
+        return f.Error(g["friction_load"], "ground.friction_load", "must be corner or body");
+      ground.friction_load = *load;
+    }
     if (Status s = ReadExpr(f, g["friction"], "ground.friction", d, ground.friction); !s.ok())
       return s;
     if (Status s = ReadExpr(f, g["erp"], "ground.erp", d, ground.erp); !s.ok()) return s;

@@ -98,11 +98,13 @@ int CmdExport(const GlobalOptions& g, const std::vector<std::string>& args, int 
   }
   const robots::RobotDescriptor& d = **robot;
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
-  const std::vector<double> genes(ind.genes().begin(), ind.genes().end());
+  // The gait's genes; a study may append body genes (docs/robots.md), which no command uses.
+  const size_t n = std::min<size_t>(ind.genes_size(), d.controller.genes.size());
+  const std::vector<double> genes(ind.genes().begin(), ind.genes().begin() + n);
   const double period = kind->period_s(genes);
   const size_t samples = static_cast<size_t>(std::floor(cycles * period * rate + 1e-9)) + 1;
   std::vector<std::vector<double>> rows;
-  for (size_t i = 0; i < samples; ++i) rows.push_back(kind->commands(genes, i / rate));
+  for (size_t i = 0; i < samples; ++i) rows.push_back(kind->commands(d.controller, genes, i / rate));
   std::ofstream file(out);
   file << "t," << absl::StrJoin(d.controller.actuators, ",") << "\n";
   for (size_t i = 0; i < samples; ++i) {

@@ -126,10 +126,16 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        {"nuisance.time_offset_s"}},
       {"robot.distance",
        "forward travel (m) per gait cycle of any robot whose descriptor has model: generic "
-       "(objective.robot; docs/robots.md), measured after settle_cycles from rest; genes: "
-       "the robot's controller's",
+       "(objective.robot; docs/robots.md), measured after settle_cycles from rest, or in "
+       "duration_s from rest; genes: the robot's controller's, then any of its parameters "
+       "(a body searched with its gait); metrics max_tilt_rad and torque_limited_fraction "
+       "for constraints",
        {{"cycles", 1, 50, 2,
          "measured gait cycles (default: the robot's simulation.measured_cycles)", true},
+        {"duration_s", 0, 600, 0,
+         "> 0: fitness is the forward travel (m) of the centre of mass in this time from rest, "
+         "start-up included, instead of travel per cycle; 0: per cycle (default: the robot's "
+         "simulation.duration_s when it has one, else 0)"},
         {"settle_cycles", 0, 20, 1,
          "gait cycles from rest before measuring (default: the robot's simulation.settle_cycles)",
          true},

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "services/core/objective_catalog.h"
+#include "robots/registry.h"
 #include "services/diagnosis/fits.h"
 #include "workers/effects/effects.h"
 
@@ -20,6 +21,8 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
     std::vector<std::string> known;
     for (const auto& o : core::ObjectiveCatalog())
       if (!o.calibrates.empty()) known.push_back(o.calibrates);
+    for (const std::string& name : robots::RobotNames())
+      if (robots::Robot(name).model == "generic") known.push_back(name);
     return absl::InvalidArgumentError(absl::StrCat(
         "field 'robot': '", d.robot(), "' is not a robot gaitforge can diagnose (built in: ",
         absl::StrJoin(known, ", "),

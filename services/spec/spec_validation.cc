@@ -76,6 +76,28 @@ void ValidateCalibrationGenes(const StudySpec& spec, const core::ObjectiveInfo& 
   }
 }
 
+// Genes after the controller's (from `first` on) name the robot's parameters, within their
+// ranges: a body searched together with its gait (paper 001's knee stiffness and friction).
+void ValidateBodyGenes(const StudySpec& spec, int first, const robots::RobotDescriptor& d,
+                       std::vector<FieldError>& e) {
+  std::vector<std::string> known;
+  for (const auto& p : d.parameters) known.push_back(p.name);
+  for (int i = first; i < spec.bounds_size(); ++i) {
+    const auto& b = spec.bounds(i);
+    const robots::Parameter* p = d.FindParameter(b.name());
+    if (p == nullptr) {
+      e.push_back({absl::StrCat("bounds[", i, "].name"),
+                   absl::StrCat("'", b.name(), "' is neither a gene of robot ", d.name,
+                                "'s controller nor one of its parameters; nearest: ",
+                                absl::StrJoin(robots::Nearest(b.name(), known), ", "))});
+      continue;
+    }
+    for (double x : {b.lo(), b.hi()})
+      if (std::string bad = p->Check(x); !bad.empty())
+        e.push_back({absl::StrCat("bounds[", i, "]"), bad});
+  }
+}
+
 // A robot-agnostic objective's robot must resolve to a generic model, and the genes must be
 // its controller's, in order (a calibration's: its calibratable names).
 // False when the robot itself is wrong: errors about the genes would only follow from it.
@@ -108,17 +130,19 @@ bool ValidateRobotGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
     return true;
   }
   const auto& genes = d.controller.genes;
-  if (spec.bounds_size() != static_cast<int>(genes.size())) {
+  if (spec.bounds_size() < static_cast<int>(genes.size())) {
     e.push_back({"bounds", absl::StrCat("has ", spec.bounds_size(), " genes; robot ", d.name,
-                                        "'s controller has ", genes.size())});
+                                        "'s controller has ", genes.size(),
+                                        " (its parameters may follow them)")});
     return true;
   }
-  for (int i = 0; i < spec.bounds_size(); ++i) {
+  for (int i = 0; i < static_cast<int>(genes.size()); ++i) {
     if (spec.bounds(i).name() == genes[i].name) continue;
     e.push_back({absl::StrCat("bounds[", i, "].name"),
                  absl::StrCat("'", spec.bounds(i).name(), "' must be '", genes[i].name,
                               "', gene ", i, " of robot ", d.name)});
   }
+  ValidateBodyGenes(spec, static_cast<int>(genes.size()), d, e);
   return true;
 }
 

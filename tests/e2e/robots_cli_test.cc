@@ -39,9 +39,9 @@ TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
   EXPECT_THAT(check.err, AllOf(HasSubstr(bad + ":" + line + ":"),
                                HasSubstr("lumps.mass_kg = -3 kg is outside [0.001, 1] kg")));
 
-  auto unknown = RunCommand(Bin("gaitforge") + " robots walker");
+  auto unknown = RunCommand(Bin("gaitforge") + " robots centipede");
   EXPECT_EQ(unknown.exit_code, 3);
-  EXPECT_THAT(unknown.err, HasSubstr("known: caterpillar"));
+  EXPECT_THAT(unknown.err, HasSubstr("known: caterpillar, walker"));
 }
 
 }  // namespace

@@ -15,11 +15,13 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
   if (genes.size() != c.genes.size())
     return absl::InvalidArgumentError(absl::StrCat(d.name, " takes ", c.genes.size(),
                                                    " genes, got ", genes.size()));
-  if (c.kind != "sine")
+  const robots::ControllerKind* kind = robots::FindControllerKind(c.kind);
+  if (!kind->set_points)
     return absl::InvalidArgumentError(absl::StrCat(
-        "the generic model drives servos with controller kind sine, not ", c.kind));
+        "the generic model drives servos with set-point angles; controller kind ", c.kind,
+        " switches actuators on and off"));
   // The controller's commands, in its actuators' order, placed in descriptor order.
-  const std::vector<double> command = robots::FindControllerKind(c.kind)->commands(genes, t);
+  const std::vector<double> command = kind->commands(c, genes, t);
   std::vector<double> out(d.actuators.size(), 0.0);
   for (size_t k = 0; k < c.actuators.size(); ++k)
     for (size_t i = 0; i < d.actuators.size(); ++i)
@@ -97,19 +99,23 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   int64_t settle_steps = 0, total = 0;
   double start_x = 0, end_x = 0;
   const auto steps = [&](const GenericWorld& w) {
+    if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
     settle_steps = std::llround(settle * period / w.timestep());
     return total = settle_steps + std::llround(measured * period / w.timestep());
   };
   const auto each = [&](const GenericWorld& w, int64_t i) {
     if (i == settle_steps) start_x = w.CentreOfMass()[0];
+    r.max_tilt_rad = w.max_tilt();
+    r.torque_limited_fraction = w.torque_limited_fraction();
     if (i == total) end_x = w.CentreOfMass()[0];
   };
   const double offset =
       genes.size() == d.controller.genes.size() ? o.start_phase * kind->period_s(genes) : 0;
   if (!Run(d, v, genes, o.timestep_s, offset, steps, each, &r.reason, &r.simulated_s)) return r;
   r.valid = true;
-  r.distance_per_cycle_m = (end_x - start_x) / measured;
+  r.travel_m = end_x - start_x;
+  r.distance_per_cycle_m = r.travel_m / measured;
   return r;
 }
 

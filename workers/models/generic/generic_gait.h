@@ -18,13 +18,19 @@ struct GaitOptions {
   int measured_cycles = -1;  // < 0: the robot's simulation.measured_cycles
   double timestep_s = 0;     // <= 0: the robot's simulation.timestep_s
   double start_phase = 0;    // the gait's phase at t = 0 (cycles, 0..1)
+  // > 0: measure a fixed time instead of cycles (paper 001): the fitness is the forward
+  // travel of the centre of mass over duration_s from rest, start-up included (m).
+  double duration_s = 0;
 };
 
 struct GaitResult {
   bool valid = false;
   std::string reason;               // why not valid
-  double distance_per_cycle_m = 0;  // the fitness
+  double distance_per_cycle_m = 0;  // the fitness (cycles)
+  double travel_m = 0;              // the fitness (duration_s > 0)
   double simulated_s = 0;
+  double max_tilt_rad = 0;            // GenericWorld::max_tilt over the whole run
+  double torque_limited_fraction = 0; // GenericWorld::torque_limited_fraction
 };
 
 // Commands (rad) of each actuator, in descriptor order, at time t for these genes; an

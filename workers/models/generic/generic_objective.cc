@@ -1,5 +1,6 @@
 #include "workers/models/generic/generic_objective.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "robots/registry.h"
@@ -40,20 +41,41 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
       return r;
     }
   }
+  // Genes past the controller's are the robot's parameters (a body searched with its gait).
+  const size_t gait = std::min(in.genes.size(), (*robot)->controller.genes.size());
+  for (size_t i = gait; i < in.genes.size(); ++i) {
+    const std::string name = i < in.gene_names.size() ? in.gene_names[i] : "";
+    if (auto s = values.Set(name, in.genes[i]); !s.ok()) {
+      r.reason = "gene " + name + ": " + std::string(s.message());
+      return r;
+    }
+  }
+  const std::vector<double> gait_genes(in.genes.begin(), in.genes.begin() + gait);
   GaitOptions o;
   if (auto it = in.params.find("cycles"); it != in.params.end()) o.measured_cycles = static_cast<int>(it->second);
   if (auto it = in.params.find("settle_cycles"); it != in.params.end()) o.settle_cycles = static_cast<int>(it->second);
   if (auto it = in.params.find("timestep_ms"); it != in.params.end()) o.timestep_s = it->second * 1e-3;
   if (auto it = in.params.find("start_phase"); it != in.params.end()) o.start_phase = it->second;
-  const GaitResult g = EvaluateGait(**robot, values, in.genes, o);
+  if (auto it = in.params.find("duration_s"); it != in.params.end())
+    o.duration_s = it->second;
+  else if ((*robot)->FindParameter("simulation.duration_s"))
+    o.duration_s = values("simulation.duration_s");
+  const GaitResult g = EvaluateGait(**robot, values, gait_genes, o);
   r.metrics["simulated_s"] = g.simulated_s;
   if (!g.valid) {
     r.reason = g.reason;
     return r;
   }
   r.valid = true;
-  r.fitness = g.distance_per_cycle_m;
-  r.metrics["distance_per_cycle"] = g.distance_per_cycle_m;
+  r.metrics["max_tilt_rad"] = g.max_tilt_rad;
+  r.metrics["torque_limited_fraction"] = g.torque_limited_fraction;
+  if (o.duration_s > 0) {
+    r.fitness = g.travel_m;
+    r.metrics["travel"] = g.travel_m;
+  } else {
+    r.fitness = g.distance_per_cycle_m;
+    r.metrics["distance_per_cycle"] = g.distance_per_cycle_m;
+  }
   return r;
 }
 

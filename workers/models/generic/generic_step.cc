@@ -11,7 +11,7 @@ namespace gaitforge::generic {
 void GenericWorld::ApplyJointTorques() {
   for (size_t i = 0; i < joints_.size(); ++i) {
     const Spring& s = springs_[i];
-    if (s.k == 0 && s.c == 0) continue;
+    if (s.k == 0 && s.c == 0) continue;  // a fixed joint's spring is {}
     const double angle = dJointGetHingeAngle(joints_[i]);
     const double rate = dJointGetHingeAngleRate(joints_[i]);
     dJointAddHingeTorque(joints_[i], -s.k * (angle - s.rest) - s.c * rate);
@@ -46,7 +46,7 @@ void GenericWorld::ApplyServos(const std::vector<double>& commands) {
 
 void GenericWorld::AddGroundContacts() {
   ground_contacts_ = 0;
-  constexpr int kMax = 8;
+  constexpr int kMax = kMaxContacts;
   for (size_t i = 0; i < geoms_.size(); ++i) {
     // The plane z = 0, without a geom: a box corner below it is a contact point.
     const dReal* p = dBodyGetPosition(bodies_[i]);
@@ -86,20 +86,23 @@ void GenericWorld::AddGroundContacts() {
       // A direction-dependent coefficient replaces the ground's own when it is set (> 0).
       const double vx = dBodyGetLinearVel(bodies_[i])[0];
       const double directed = vx >= 0 ? friction_forward_ : friction_backward_;
+      const double mu = directed > 0 ? directed : friction_;
       if (k != deepest) {
         c.surface.mu = 0;
-      } else if (directed > 0) {
-        c.surface.mode |= dContactApprox1;
-        c.surface.mu = directed;
-      } else if (std::isinf(friction_)) {
+      } else if (std::isinf(mu)) {
         c.surface.mu = dInfinity;
+      } else if (body_load_) {
+        // ODE's constant-bound friction: the bound is a force, mu times the box's load.
+        c.surface.mu = mu * load_[i];
       } else {
         c.surface.mode |= dContactApprox1;
-        c.surface.mu = friction_;
+        c.surface.mu = mu;
       }
       dJointID j = dJointCreateContact(world_.world(), world_.contacts(), &c);
       dJointAttach(j, bodies_[i], nullptr);
+      if (body_load_) dJointSetFeedback(j, &contact_feedback_[i * kMaxContacts + k]);
     }
+    contact_count_[i] = n;
     ground_contacts_ += n;
   }
 }
@@ -138,7 +141,43 @@ sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
     return sim::SimOutcome::Failed(absl::StrCat("ODE: ", e.what(), " at t = ", time(), " s"));
   }
   ++steps_;
+  Observe();
   return CheckState();
+}
+
+void GenericWorld::Observe() {
+  if (body_load_)
+    for (size_t i = 0; i < bodies_.size(); ++i) {
+      // The ground's push on the box: the contacts' forces on it along the normal (+z).
+      double load = 0;
+      for (int k = 0; k < contact_count_[i]; ++k) load += contact_feedback_[i * kMaxContacts + k].f1[2];
+      load_[i] = std::max(0.0, load);
+    }
+  // Tilt: the body's z axis against the world's, split into pitch (about y) and roll.
+  const dReal* r = dBodyGetRotation(bodies_[0]);
+  const double pitch = std::atan2(r[2], r[10]), roll = std::atan2(r[6], r[10]);
+  max_tilt_ = std::max({max_tilt_, std::fabs(pitch), std::fabs(roll)});
+  for (size_t i = 0; i < servos_.size(); ++i) {
+    // The torque about the hinge axis that the joint put on its second body: the reaction's
+    // torque about that body's centre less the moment of the reaction's force at the anchor.
+    const dJointID j = joints_[servos_[i].joint];
+    const dJointFeedback& f = feedback_[i];
+    dVector3 anchor, axis;
+    dJointGetHingeAnchor2(j, anchor);
+    dJointGetHingeAxis(j, axis);
+    const dReal* c = dBodyGetPosition(dJointGetBody(j, 1));
+    const double rx = anchor[0] - c[0], ry = anchor[1] - c[1], rz = anchor[2] - c[2];
+    const double tx = f.t2[0] - (ry * f.f2[2] - rz * f.f2[1]);
+    const double ty = f.t2[1] - (rz * f.f2[0] - rx * f.f2[2]);
+    const double tz = f.t2[2] - (rx * f.f2[1] - ry * f.f2[0]);
+    const double torque = std::fabs(tx * axis[0] + ty * axis[1] + tz * axis[2]);
+    if (servos_[i].max_torque > 0 && torque >= 0.99 * servos_[i].max_torque) ++torque_limited_;
+  }
+}
+
+double GenericWorld::torque_limited_fraction() const {
+  const double n = static_cast<double>(steps_) * static_cast<double>(servos_.size());
+  return n > 0 ? static_cast<double>(torque_limited_) / n : 0.0;
 }
 
 std::array<double, 3> GenericWorld::CentreOfMass() const {
@@ -153,7 +192,9 @@ std::array<double, 3> GenericWorld::CentreOfMass() const {
   return c;
 }
 
-double GenericWorld::JointAngle(int joint) const { return dJointGetHingeAngle(joints_[joint]); }
+double GenericWorld::JointAngle(int joint) const {
+  return dJointGetType(joints_[joint]) == dJointTypeHinge ? dJointGetHingeAngle(joints_[joint]) : 0.0;
+}
 
 absl::StatusOr<double> GenericWorld::Channel(const std::string& name) const {
   const size_t dot = name.rfind('.');

@@ -121,6 +121,10 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->friction_ = Eval(d.ground->friction, v);
   w->contact_erp_ = Eval(d.ground->erp, v);
   w->contact_cfm_ = Eval(d.ground->cfm, v);
+  w->body_load_ = d.ground->friction_load == "body";
+  w->load_.assign(d.bodies.size(), 0.0);
+  w->contact_feedback_.resize(d.bodies.size() * kMaxContacts);
+  w->contact_count_.assign(d.bodies.size(), 0);
   w->tether_force_ = v.Effect("effect.tether_force_n");
   w->tether_stiffness_ = v.Effect("effect.tether_stiffness_n_per_m");
   w->drag_ = v.Effect("effect.drag_n_s_per_m");
@@ -145,6 +149,11 @@ absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
     dMassSetBoxTotal(&mass, m, size[0], size[1], size[2]);
     dBodySetMass(body, &mass);
     dBodySetPosition(body, pos[0], pos[1], pos[2]);
+    if (b.pitch) {
+      dMatrix3 rot;
+      dRFromAxisAndAngle(rot, 0, 1, 0, Eval(*b.pitch, v));
+      dBodySetRotation(body, rot);
+    }
     dGeomID geom = dCreateBox(world_.space(), size[0], size[1], size[2]);
     dGeomSetBody(geom, body);
     bodies_.push_back(body);
@@ -162,6 +171,14 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
     return -1;
   };
   for (const robots::Joint& j : d_.joints) {
+    if (j.type == "fixed") {
+      dJointID weld = dJointCreateFixed(world_.world(), nullptr);
+      dJointAttach(weld, bodies_[body_index(j.body1)], bodies_[body_index(j.body2)]);
+      dJointSetFixed(weld);
+      joints_.push_back(weld);
+      springs_.push_back({});
+      continue;
+    }
     dJointID hinge = dJointCreateHinge(world_.world(), nullptr);
     dJointAttach(hinge, bodies_[body_index(j.body1)], bodies_[body_index(j.body2)]);
     const auto anchor = Eval(j.anchor, v);
@@ -201,6 +218,8 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
           " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
     s.lag_keep = lag > 0 ? std::exp(-h_ / lag) : 0;
     dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
+    // The joint's reaction, read after each step for the torque the servo gave.
+    dJointSetFeedback(joints_[s.joint], &feedback_.emplace_back());
     servos_.push_back(s);
   }
   return absl::OkStatus();

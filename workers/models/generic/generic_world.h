@@ -16,6 +16,7 @@
 // Coulomb friction (forward or backward coefficient by the sign of the body's x velocity,
 // 0 keeping the ground's own); a command delay (generic_gait.cc).
 #include <array>
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -73,6 +74,12 @@ class GenericWorld {
   // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
   absl::StatusOr<double> Channel(const std::string& name) const;
   int ground_contacts() const { return ground_contacts_; }
+  // The largest tilt of the first body (its roll or pitch against the world's level, rad)
+  // over the steps so far.
+  double max_tilt() const { return max_tilt_; }
+  // Of the servo-steps so far, the fraction in which a servo gave at least 99% of its
+  // max_torque (it was stalled by its torque limit); 0 without servos.
+  double torque_limited_fraction() const;
 
  private:
   GenericWorld(const robots::RobotDescriptor& d, double timestep_s);
@@ -85,6 +92,7 @@ class GenericWorld {
   void ApplyServos(const std::vector<double>& commands);
   void AddGroundContacts();
   sim::SimOutcome CheckState();
+  void Observe();  // after a step: tilt and servo torques
 
   struct Spring {
     double k = 0, c = 0, rest = 0;
@@ -112,12 +120,23 @@ class GenericWorld {
   };
   std::vector<Marker> markers_;
   double friction_ = 0, contact_erp_ = 0, contact_cfm_ = 0;
+  // friction_load "body": each body's normal load on the ground in the last step (N), read
+  // from its contacts' feedback (kMaxContacts per body, stable addresses).
+  bool body_load_ = false;
+  static constexpr int kMaxContacts = 8;
+  std::vector<double> load_;
+  std::vector<dJointFeedback> contact_feedback_;
+  std::vector<int> contact_count_;
   // Effects (0: off).
   double tether_force_ = 0, tether_stiffness_ = 0, drag_ = 0;
   double friction_forward_ = 0, friction_backward_ = 0;
   double max_speed_ = 0, max_excursion_ = 0;
   int64_t steps_ = 0;
   int ground_contacts_ = 0;
+  // The servos' joint reactions (ODE writes them each step; stable addresses: a deque).
+  std::deque<dJointFeedback> feedback_;
+  double max_tilt_ = 0;
+  int64_t torque_limited_ = 0;
 };
 
 }  // namespace gaitforge::generic

@@ -1,0 +1,82 @@
+// Paper 001's study (examples/walker-sweep.yaml) on a small grid through the real CLI,
+// coordinator and workers: a grid over gait and body genes, then Nelder-Mead, with its
+// constraints; the result ignores the worker count. Body genes that are not the robot's
+// parameters, or leave their ranges, are refused before anything starts.
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/e2e/cluster.h"
+#include "tests/support/temp_dir.h"
+
+namespace gaitforge::testing {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+// The example with a 2 x 2 x 1 x 1 x 2 x 1 grid and short searches.
+std::string SmallSweep() {
+  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/walker-sweep.yaml");
+  text = std::regex_replace(text, std::regex(R"(points_per_axis: \[[^\]]*\])"),
+                            "points_per_axis: [2, 2, 1, 1, 2, 1]");
+  text = std::regex_replace(text, std::regex(R"(nm_max_iterations: \d+)"), "nm_max_iterations: 2");
+  return std::regex_replace(text, std::regex(R"(top_k: \d+)"), "top_k: 2");
+}
+
+std::string RunSweep(const TempDir& dir, const std::string& db, int workers) {
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " --db " + db;
+  auto r = RunCommand(cli + " local spec.yaml --workers " + std::to_string(workers));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("sweep: the grid is done"));
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
+  auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
+  EXPECT_EQ(hof.exit_code, 0) << hof.err;
+  return hof.out;
+}
+
+TEST(WalkerStudy, PaperOnesSweepOverGaitAndBodyRunsEndToEnd) {
+  TempDir dir;
+  WriteFile(dir.File("spec.yaml"), SmallSweep());
+  const std::string one = RunSweep(dir, "one.db", 1);
+  const std::string two = RunSweep(dir, "two.db", 2);
+  EXPECT_THAT(one, AllOf(HasSubstr("\"travel\":"), HasSubstr("\"max_tilt_rad\":"),
+                         HasSubstr("\"torque_limited_fraction\":")));
+  // The best genotype holds six genes; its knee stiffness lies in the spec's bounds.
+  std::smatch genes;
+  ASSERT_TRUE(std::regex_search(one, genes, std::regex(R"re("genes":\[([^\]]*)\])re")));
+  const std::string list = genes[1];
+  ASSERT_EQ(std::count(list.begin(), list.end(), ','), 5) << list;
+  const double knee = std::stod(list.substr(list.rfind(',', list.rfind(',') - 1) + 1));
+  EXPECT_GE(knee, 0.1);
+  EXPECT_LE(knee, 0.4);
+  const std::regex metrics(R"re("metrics":\{[^}]*\})re");
+  EXPECT_EQ(std::regex_replace(one, metrics, ""), std::regex_replace(two, metrics, ""));
+}
+
+TEST(WalkerStudy, BodyGenesMustBeTheRobotsParametersInTheirRanges) {
+  TempDir dir;
+  auto run = [&](const std::string& from, const std::string& to) {
+    std::string text = SmallSweep();
+    text.replace(text.find(from), from.size(), to);
+    WriteFile(dir.File("spec.yaml"), text);
+    return RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " local spec.yaml --workers 1");
+  };
+  auto typo = run("knee.stiffness_nm_per_rad", "knee.stifness");
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_THAT(typo.err, AllOf(HasSubstr("bounds[4].name"), HasSubstr("'knee.stifness'"),
+                              HasSubstr("nearest: knee.stiffness_nm_per_rad")));
+  auto wide = run("lo: 0.4, hi: 0.8", "lo: 0.4, hi: 20");
+  EXPECT_EQ(wide.exit_code, 2);
+  EXPECT_THAT(wide.err, AllOf(HasSubstr("bounds[5]"), HasSubstr("ground.friction_coefficient = 20"),
+                              HasSubstr("[0, 10]")));
+  EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
+}
+
+}  // namespace
+}  // namespace gaitforge::testing

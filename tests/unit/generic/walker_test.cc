@@ -1,0 +1,147 @@
+// Paper 001's walker (robots/walker/robot.yaml) on the generic builder, checked against the
+// physics its paper measures: it stands level, its servo follows a step with the lag and
+// speed limit it was given, a sprung joint deflects as statics says, a foot slides on an
+// incline steeper than atan(mu) and holds below it (the paper's own friction test), and
+// its gait travels in the paper's 5 s.
+#include <cmath>
+#include <string>
+
+#include "gtest/gtest.h"
+#include "robots/descriptor_parser.h"
+#include "robots/registry.h"
+#include "workers/models/generic/generic_gait.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::generic {
+namespace {
+
+const robots::RobotDescriptor& Walker() { return robots::Robot("walker"); }
+
+class WalkerTest : public ::testing::Test {
+ protected:
+  void SetUp() override { sim::InitThread(); }
+  // Steps the walker with both hips commanded to `hip` for `seconds`.
+  static void Hold(GenericWorld& w, double hip, double seconds) {
+    const int n = static_cast<int>(std::lround(seconds / w.timestep()));
+    for (int i = 0; i < n; ++i) ASSERT_TRUE(w.Step({hip, hip}).ok) << "step " << i;
+  }
+};
+
+TEST_F(WalkerTest, StandsLevelOnItsSkidAndFeet) {
+  ParamValues v(Walker());
+  auto w = GenericWorld::Build(Walker(), v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  const auto start = (*w)->CentreOfMass();
+  Hold(**w, 0, 1.0);
+  const auto end = (*w)->CentreOfMass();
+  EXPECT_NEAR(end[0], start[0], 1e-3);
+  EXPECT_NEAR(end[2], start[2], 2e-3);  // the feet reach the ground as built
+  EXPECT_LT((*w)->max_tilt(), 0.05);
+  EXPECT_GE((*w)->ground_contacts(), 6);  // the skid's four corners and each foot
+}
+
+TEST_F(WalkerTest, TheServoFollowsAStepWithItsLagAndSpeedLimit) {
+  ParamValues v(Walker());
+  ASSERT_TRUE(v.Set("simulation.gravity_m_per_s2", 0).ok());  // no load: the servo alone
+  // Lag: a small step stays below the speed limit, so the angle follows the first-order
+  // lag (tau 0.04 s) behind the servo's own 1/gain = 5 ms.
+  {
+    auto w = GenericWorld::Build(Walker(), v, 0);
+    ASSERT_TRUE(w.ok()) << w.status();
+    Hold(**w, 0, 0.01);  // the lag starts from the first command
+    Hold(**w, 0.1, 0.045);
+    const double expected = 0.1 * (1 - std::exp(-(0.045 - 0.005) / 0.04));
+    EXPECT_NEAR(*(*w)->Channel("hip_l.angle"), expected, 0.15 * expected);
+    Hold(**w, 0.1, 0.4);
+    EXPECT_NEAR(*(*w)->Channel("hip_l.angle"), 0.1, 0.005);
+  }
+  // Speed limit: without the lag a large step runs at 10.5 rad/s at most.
+  ASSERT_TRUE(v.Set("servo.lag_s", 0).ok());
+  auto w = GenericWorld::Build(Walker(), v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  Hold(**w, 0, 0.01);
+  Hold(**w, 1.0, 0.05);
+  const double angle = *(*w)->Channel("hip_l.angle");
+  EXPECT_LE(angle, 10.5 * 0.05 + 1e-3);
+  EXPECT_GT(angle, 0.8 * 10.5 * 0.05);
+}
+
+// A sprung hinge holding a horizontal arm out from a heavy base deflects until the spring
+// carries the arm's weight: k theta = m g (L/2) cos theta.
+TEST_F(WalkerTest, ASprungJointDeflectsAsStaticsSays) {
+  const std::string text = R"(format: gaitforge.robot.v1
+name: cantilever
+summary: an arm on a sprung hinge
+model: generic
+parameters:
+  k: {value: 0.2, range: [0.01, 10], unit: N m/rad}
+  simulation:
+    timestep_s: {value: 0.001, range: [1.0e-4, 0.002], unit: s}
+    gravity_m_per_s2: {value: 9.81, range: [0, 100], unit: m/s^2}
+    settle_cycles: {value: 0, range: [0, 5], unit: cycles, integer: true}
+    measured_cycles: {value: 1, range: [1, 5], unit: cycles, integer: true}
+    max_speed_m_per_s: {value: 10, range: [0.1, 100], unit: m/s}
+    max_excursion_m: {value: 1, range: [0.01, 100], unit: m}
+  ground:
+    mu: {value: 1, range: [0, 10]}
+bodies:
+  - {name: base, shape: box, size: [0.1, 0.1, 0.1], mass: 5, position: [0, 0, 0.05]}
+  - {name: arm, shape: box, size: [0.1, 0.01, 0.01], mass: 0.01, position: [0.1, 0, 0.09]}
+joints:
+  - {name: hinge, type: hinge, bodies: [base, arm], anchor: [0.05, 0, 0.09], axis: [0, 1, 0],
+     stiffness: k, damping: 0.002}
+actuators:  # a servo without torque: the spring alone holds the arm
+  - {name: limp, type: servo, joint: hinge, gain: 1, max_speed: 1, max_torque: 0, lag_s: 0}
+ground: {friction: ground.mu, erp: 0.2, cfm: 1.0e-6}
+controller: {kind: sine, actuators: [limp], frequency_hz: [1, 2], amplitude_rad: [0, 1], offset_rad: [0, 1]}
+sensors:
+  - {kind: joint_angle, names: [hinge]}
+)";
+  auto d = robots::ParseDescriptor(text, "cantilever.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  ParamValues v(*d);
+  auto w = GenericWorld::Build(*d, v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  for (int i = 0; i < 3000; ++i) ASSERT_TRUE((*w)->Step({0.0}).ok);
+  const double theta = std::fabs(*(*w)->Channel("hinge.angle"));
+  // Solve k theta = m g (L/2) cos theta by fixed point.
+  double expected = 0;
+  for (int i = 0; i < 50; ++i) expected = 0.01 * 9.81 * 0.05 * std::cos(expected) / 0.2;
+  EXPECT_NEAR(theta, expected, 0.03 * expected);
+}
+
+// Paper 001's friction test: tilt the ground until the robot slides; tan(angle) = mu.
+TEST_F(WalkerTest, ItSlidesOnAnInclineSteeperThanAtanMu) {
+  auto slide = [](double slope) {
+    ParamValues v(Walker());
+    EXPECT_TRUE(v.Set("ground.friction_coefficient", 0.25).ok());
+    EXPECT_TRUE(v.Set("effect.slope_rad", slope).ok());
+    auto w = GenericWorld::Build(Walker(), v, 0);
+    EXPECT_TRUE(w.ok()) << w.status();
+    Hold(**w, 0, 0.2);  // settle
+    const double x0 = (*w)->CentreOfMass()[0];
+    Hold(**w, 0, 1.0);
+    return x0 - (*w)->CentreOfMass()[0];  // downhill is -x
+  };
+  const double limit = std::atan(0.25);  // 0.245 rad
+  EXPECT_LT(std::fabs(slide(limit - 0.04)), 1e-3);
+  EXPECT_GT(slide(limit + 0.04), 0.05);
+}
+
+TEST_F(WalkerTest, ItsGaitTravelsInFiveSeconds) {
+  ParamValues v(Walker());
+  GaitOptions o;
+  o.duration_s = v("simulation.duration_s");
+  // f, amp, off, lag: near examples/walker-sweep.yaml's optimum (2.2 Hz, 60 deg peak to
+  // peak, 20 deg neutral, 0.06 cycle), which crawls about 0.11 m forward in 5 s.
+  const GaitResult g = EvaluateGait(Walker(), v, {2.2, 0.52, 0.35, 0.06}, o);
+  ASSERT_TRUE(g.valid) << g.reason;
+  EXPECT_NEAR(g.simulated_s, 5.0, 1e-9);
+  EXPECT_GT(g.travel_m, 0.05);
+  EXPECT_LT(g.max_tilt_rad, M_PI / 4);  // upright
+  EXPECT_GE(g.torque_limited_fraction, 0.0);
+  EXPECT_LE(g.torque_limited_fraction, 1.0);
+}
+
+}  // namespace
+}  // namespace gaitforge::generic
