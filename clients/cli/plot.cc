@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "clients/cli/cli.h"
+#include "absl/strings/str_format.h"
 #include "services/core/subprocess.h"
 
 namespace gaitforge::cli {
@@ -21,6 +22,65 @@ std::string PlotScript() {
 }
 
 using core::Python;
+
+// A sweep study's members as JSON for the script's sweep figure: the gene names, bounds and
+// grid points per gene, and every member as [generation, fitness or null, violation, genes...].
+bool WriteSweepData(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                    const GlobalOptions& g, const std::string& path) {
+  const v1::StudySpec& spec = study.spec();
+  std::ofstream out(path);
+  out << "{\"genes\": [";
+  for (int i = 0; i < spec.bounds_size(); ++i)
+    out << (i ? ", " : "") << "[\"" << spec.bounds(i).name() << "\", " << spec.bounds(i).lo()
+        << ", " << spec.bounds(i).hi() << ", "
+        << spec.sweep().points_per_axis(spec.sweep().points_per_axis_size() == 1 ? 0 : i) << "]";
+  out << "], \"members\": [";
+  bool first = true;
+  for (int gen = 0; gen < study.generations_done(); ++gen) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::ListIndividualsRequest req;
+    req.set_study_id(study.study_id());
+    req.set_generation(gen);
+    v1::ListIndividualsResponse resp;
+    if (!stub.ListIndividuals(&ctx, req, &resp).ok()) return false;
+    for (const auto& m : resp.individuals()) {
+      if (m.carried()) continue;
+      out << (first ? "" : ", ") << "[" << gen << ", ";
+      first = false;
+      if (m.evaluation().valid()) out << absl::StrFormat("%.17g", m.evaluation().fitness());
+      else out << "null";
+      out << ", " << absl::StrFormat("%.17g", m.violation());
+      for (double x : m.genes()) out << ", " << absl::StrFormat("%.17g", x);
+      out << "]";
+    }
+  }
+  out << "]}\n";
+  return static_cast<bool>(out);
+}
+
+// A sweep study's heat map of its grid and its Nelder-Mead searches' path (paper 001's
+// figures): ID-sweep.svg beside the fitness curve. Nothing for another engine.
+int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
+              const GlobalOptions& g, std::vector<std::string>* written) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetStudyRequest req;
+  req.set_study_id(id);
+  v1::StudySummary study;
+  if (grpc::Status s = stub.GetStudy(&ctx, req, &study); !s.ok()) return ReportRpcError(s, "plot " + id);
+  if (study.spec().engine() != "sweep" || study.spec().bounds_size() < 1) return kOk;
+  const std::string json = out_dir + "/" + id + "-sweep.json";
+  const std::string svg = out_dir + "/" + id + "-sweep.svg";
+  if (!WriteSweepData(stub, study, g, json) ||
+      RunPlotScript({"sweep", "--data", json, "--out", svg, "--title", id}) != 0) {
+    std::cerr << "gaitforge: the sweep figure failed (needs " << Python()
+              << " with python3-matplotlib)\n";
+    return kFailed;
+  }
+  written->push_back(svg);
+  return kOk;
+}
 
 }  // namespace
 
@@ -63,7 +123,7 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
     return kFailed;
   }
   written->push_back(svg);
-  return kOk;
+  return PlotSweep(stub, id, out_dir, g, written);
 }
 
 int CmdPlot(const GlobalOptions& g, const std::vector<std::string>& args,

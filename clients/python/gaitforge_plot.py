@@ -8,12 +8,16 @@
                their period is scaled (Fig. 13), and the travelling-wave baseline (Fig. 14).
   calibration  a calibration study's overlays, errors and distance ratios (`gaitforge report`).
   diagnosis    the gap finder's held-out errors and overlays (gaitforge_diagnosis_figure.py).
+  sweep        a sweep study's grid as a heat map over its two most finely gridded genes (best
+               over the others), with the Nelder-Mead searches' points and the path of the
+               best so far (paper 001's figures; `gaitforge plot` writes the data).
 
 Usage:
   gaitforge_plot.py fitness --history HISTORY.json --out FILE.svg [--title TEXT]
   gaitforge_plot.py paper-gait --report REPORT.json --out-prefix PREFIX
   gaitforge_plot.py calibration --report CALIBRATION.json --out-prefix PREFIX
   gaitforge_plot.py diagnosis --report DIAGNOSIS.json --out FILE.svg
+  gaitforge_plot.py sweep --data SWEEP.json --out FILE.svg [--title TEXT]
 
 The `gaitforge plot ID` command calls this script; run it under /usr/bin/python3 (Debian's
 python3-matplotlib).
@@ -272,6 +276,70 @@ def calibration(args):
     return 0
 
 
+def sweep(args):
+    """Heat map of the grid (generation 0) over its two most finely gridded genes, best over
+    the others, with the Nelder-Mead searches' points and the path of the best so far."""
+    import numpy as np
+    with open(args.data) as f:
+        data = json.load(f)
+    genes, members = data["genes"], data["members"]
+    if not members:
+        print(f"gaitforge_plot: {args.data}: no member evaluated yet", file=sys.stderr)
+        return 2
+    axes = sorted(range(len(genes)), key=lambda i: (-genes[i][3], i))[:2]
+    if len(axes) < 2 or genes[axes[1]][3] < 2:
+        axes = [axes[0], axes[0]]
+    ix, iy = axes
+    grid = [m for m in members if m[0] == 0]
+    # Deb's rule as the engines: feasible before infeasible, then fitness.
+    key = lambda m: (m[1] is not None, -m[2] if m[1] is not None else -math.inf,
+                     m[1] if m[1] is not None else -math.inf)
+    def levels(i):
+        name, lo, hi, p = genes[i]
+        return np.array([0.5 * (lo + hi)]) if p == 1 else np.linspace(lo, hi, int(p))
+    xs, ys = levels(ix), levels(iy)
+    z = np.full((len(ys), len(xs)), np.nan)
+    for m in grid:
+        if m[1] is None or m[2] > 0:
+            continue
+        a = int(np.argmin(abs(xs - m[3 + ix])))
+        b = int(np.argmin(abs(ys - m[3 + iy])))
+        z[b, a] = m[1] if np.isnan(z[b, a]) else max(z[b, a], m[1])
+    fig, ax = plt.subplots(figsize=(7, 5))
+    def edges(v, i):
+        if len(v) == 1:
+            return np.array([genes[i][1], genes[i][2]])
+        step = v[1] - v[0]
+        return np.concatenate([v - step / 2, [v[-1] + step / 2]])
+    mesh = ax.pcolormesh(edges(xs, ix), edges(ys, iy), np.ma.masked_invalid(z), cmap="viridis",
+                         shading="flat")
+    fig.colorbar(mesh, ax=ax, label="best fitness on the grid (feasible)")
+    later = [m for m in members if m[0] > 0]
+    if later:
+        ax.scatter([m[3 + ix] for m in later], [m[3 + iy] for m in later], s=6, c="white",
+                   edgecolors="black", linewidths=0.3, label="Nelder-Mead points", zorder=3)
+    # From the grid's best point, each better point the searches found.
+    best = max(grid, key=key) if grid else None
+    path = [(best[3 + ix], best[3 + iy])] if best else []
+    for m in sorted(later, key=lambda m: m[0]):
+        if best is None or key(m) > key(best):
+            best = m
+            path.append((m[3 + ix], m[3 + iy]))
+    if path:
+        px, py = zip(*path)
+        ax.plot(px, py, "-o", color="tab:red", ms=3, lw=1.2, label="best so far", zorder=4)
+        ax.plot(px[-1], py[-1], "*", color="tab:red", ms=14, mec="black", zorder=5,
+                label=f"best: {best[1]:.4g}")
+    ax.set_xlabel(genes[ix][0])
+    ax.set_ylabel(genes[iy][0])
+    ax.set_title(args.title)
+    ax.legend(loc="upper left", fontsize=8, framealpha=0.8)
+    fig.tight_layout()
+    fig.savefig(args.out)
+    print(args.out)
+    return 0
+
+
 def diagnosis(args):
     import gaitforge_diagnosis_figure
     print(gaitforge_diagnosis_figure.draw(args.report, args.out))
@@ -295,6 +363,11 @@ def main():
     k.add_argument("--report", required=True, help="the JSON `gaitforge report` writes")
     k.add_argument("--out-prefix", required=True, help="files PREFIX-overlays.svg etc.")
     k.set_defaults(run=calibration)
+    w = sub.add_parser("sweep", help="a sweep study's grid as a heat map, with its searches")
+    w.add_argument("--data", required=True, help="the JSON `gaitforge plot` writes for a sweep")
+    w.add_argument("--out", required=True, help="image file (.svg or .png)")
+    w.add_argument("--title", default="sweep")
+    w.set_defaults(run=sweep)
     g = sub.add_parser("diagnosis", help="the gap finder's figure from its diagnosis.json")
     g.add_argument("--report", required=True, help="the diagnosis.json `gaitforge diagnose` writes")
     g.add_argument("--out", required=True, help="image file (.svg or .png)")

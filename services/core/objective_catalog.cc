@@ -128,8 +128,9 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        "forward travel (m) per gait cycle of any robot whose descriptor has model: generic "
        "(objective.robot; docs/robots.md), measured after settle_cycles from rest, or in "
        "duration_s from rest; genes: the robot's controller's, then any of its parameters "
-       "(a body searched with its gait); metrics max_tilt_rad and torque_limited_fraction "
-       "for constraints",
+       "(a body searched with its gait); metrics max_tilt_rad, torque_limited_fraction, "
+       "servo_energy_j and cost_of_transport for constraints; option fitness: "
+       "cost_of_transport makes the fitness -cost of transport",
        {{"cycles", 1, 50, 2,
          "measured gait cycles (default: the robot's simulation.measured_cycles)", true},
         {"duration_s", 0, 600, 0,
@@ -143,8 +144,9 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
         StartPhase()},
        {},
        0,
-       // set: parameter overrides NAME=VALUE,... of the robot's descriptor
-       {{"set", {}}},
+       // set: parameter overrides NAME=VALUE,... of the robot's descriptor; fitness: travel
+       // (the default) or cost_of_transport (fitness = -servo work / (weight x travel)).
+       {{"set", {}}, {"fitness", {"travel", "cost_of_transport"}}},
        false,
        "",
        false,

@@ -35,6 +35,10 @@ std::string RunSweep(const TempDir& dir, const std::string& db, int workers) {
   auto list = RunCommand(cli + " list --json");
   std::smatch m;
   EXPECT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
+  // Paper 001's figures: the grid as a heat map with the searches' path.
+  EXPECT_THAT(r.err, HasSubstr("wrote runs/plots/" + m[1].str() + "-sweep.svg"));
+  EXPECT_THAT(ReadFile(dir.File("runs/plots/" + m[1].str() + "-sweep.svg")),
+              AllOf(HasSubstr("<svg"), HasSubstr("Nelder-Mead points")));
   auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
   EXPECT_EQ(hof.exit_code, 0) << hof.err;
   return hof.out;
@@ -46,7 +50,8 @@ TEST(WalkerStudy, PaperOnesSweepOverGaitAndBodyRunsEndToEnd) {
   const std::string one = RunSweep(dir, "one.db", 1);
   const std::string two = RunSweep(dir, "two.db", 2);
   EXPECT_THAT(one, AllOf(HasSubstr("\"travel\":"), HasSubstr("\"max_tilt_rad\":"),
-                         HasSubstr("\"torque_limited_fraction\":")));
+                         HasSubstr("\"torque_limited_fraction\":"),
+                         HasSubstr("\"cost_of_transport\":")));
   // The best genotype holds six genes; its knee stiffness lies in the spec's bounds.
   std::smatch genes;
   ASSERT_TRUE(std::regex_search(one, genes, std::regex(R"re("genes":\[([^\]]*)\])re")));

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <string>
 
+#include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
 #include "robots/registry.h"
 #include "workers/models/generic/generic_gait.h"
+#include "workers/models/generic/generic_objective.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::generic {
@@ -66,15 +68,15 @@ TEST_F(WalkerTest, TheServoFollowsAStepWithItsLagAndSpeedLimit) {
   EXPECT_GT(angle, 0.8 * 10.5 * 0.05);
 }
 
-// A sprung hinge holding a horizontal arm out from a heavy base deflects until the spring
-// carries the arm's weight: k theta = m g (L/2) cos theta.
-TEST_F(WalkerTest, ASprungJointDeflectsAsStaticsSays) {
-  const std::string text = R"(format: gaitforge.robot.v1
+// A horizontal arm on a hinge out from a heavy base, its spring k (0: none) and damper c,
+// and a servo of max_torque (0: limp) with a lag.
+std::string Cantilever(double k, double c, double max_torque, double lag_s) {
+  return absl::StrCat(R"(format: gaitforge.robot.v1
 name: cantilever
 summary: an arm on a sprung hinge
 model: generic
 parameters:
-  k: {value: 0.2, range: [0.01, 10], unit: N m/rad}
+  k: {value: )", k, R"(, range: [0, 10], unit: N m/rad}
   simulation:
     timestep_s: {value: 0.001, range: [1.0e-4, 0.002], unit: s}
     gravity_m_per_s2: {value: 9.81, range: [0, 100], unit: m/s^2}
@@ -89,15 +91,20 @@ bodies:
   - {name: arm, shape: box, size: [0.1, 0.01, 0.01], mass: 0.01, position: [0.1, 0, 0.09]}
 joints:
   - {name: hinge, type: hinge, bodies: [base, arm], anchor: [0.05, 0, 0.09], axis: [0, 1, 0],
-     stiffness: k, damping: 0.002}
-actuators:  # a servo without torque: the spring alone holds the arm
-  - {name: limp, type: servo, joint: hinge, gain: 1, max_speed: 1, max_torque: 0, lag_s: 0}
+     stiffness: k, damping: )", c, R"(}
+actuators:
+  - {name: servo, type: servo, joint: hinge, gain: 50, max_speed: 5, max_torque: )",
+                      max_torque, R"(, lag_s: )", lag_s, R"(}
 ground: {friction: ground.mu, erp: 0.2, cfm: 1.0e-6}
-controller: {kind: sine, actuators: [limp], frequency_hz: [1, 2], amplitude_rad: [0, 1], offset_rad: [0, 1]}
+controller: {kind: sine, actuators: [servo], frequency_hz: [1, 2], amplitude_rad: [0, 1], offset_rad: [0, 1]}
 sensors:
   - {kind: joint_angle, names: [hinge]}
-)";
-  auto d = robots::ParseDescriptor(text, "cantilever.yaml");
+)");
+}
+
+// The spring alone (a limp servo) holds the arm: k theta = m g (L/2) cos theta.
+TEST_F(WalkerTest, ASprungJointDeflectsAsStaticsSays) {
+  auto d = robots::ParseDescriptor(Cantilever(0.2, 0.002, 0, 0), "cantilever.yaml");
   ASSERT_TRUE(d.ok()) << d.status();
   ParamValues v(*d);
   auto w = GenericWorld::Build(*d, v, 0);
@@ -108,6 +115,26 @@ sensors:
   double expected = 0;
   for (int i = 0; i < 50; ++i) expected = 0.01 * 9.81 * 0.05 * std::cos(expected) / 0.2;
   EXPECT_NEAR(theta, expected, 0.03 * expected);
+}
+
+// A servo raising the arm slowly by 0.5 rad does the work of lifting its weight; lowering
+// it, the servo brakes and gives (almost) nothing.
+TEST_F(WalkerTest, ServoEnergyIsThePositiveWorkItDoes) {
+  auto d = robots::ParseDescriptor(Cantilever(0, 0, 1.0, 0.3), "cantilever.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  auto energy = [&](double command) {
+    ParamValues v(*d);
+    auto w = GenericWorld::Build(*d, v, 0);
+    EXPECT_TRUE(w.ok()) << w.status();
+    for (int i = 0; i < 10; ++i) EXPECT_TRUE((*w)->Step({0.0}).ok);
+    for (int i = 0; i < 3000; ++i) EXPECT_TRUE((*w)->Step({command}).ok);
+    return (*w)->servo_energy();
+  };
+  const double up = std::max(energy(0.5), energy(-0.5));
+  const double down = std::min(energy(0.5), energy(-0.5));
+  const double lift = 0.01 * 9.81 * 0.05 * std::sin(0.5);  // m g (L/2) sin(0.5): 2.35 mJ
+  EXPECT_NEAR(up, lift, 0.15 * lift);
+  EXPECT_LT(down, 0.2 * lift);
 }
 
 // Paper 001's friction test: tilt the ground until the robot slides; tan(angle) = mu.
@@ -141,6 +168,33 @@ TEST_F(WalkerTest, ItsGaitTravelsInFiveSeconds) {
   EXPECT_LT(g.max_tilt_rad, M_PI / 4);  // upright
   EXPECT_GE(g.torque_limited_fraction, 0.0);
   EXPECT_LE(g.torque_limited_fraction, 1.0);
+}
+
+// robot.distance on the walker: body genes reach the robot, cost of transport is work per
+// weight and distance, and as the fitness it is minimised (fitness = -cost).
+TEST_F(WalkerTest, TheObjectiveTakesBodyGenesAndCostOfTransport) {
+  RobotDistanceObjective objective;
+  objectives::EvalInput in;
+  in.robot = "walker";
+  in.genes = {2.2, 0.52, 0.35, 0.06, 0.31};
+  in.gene_names = {"f", "amp", "off", "lag", "knee.stiffness_nm_per_rad"};
+  const objectives::EvalResult travel = objective.Evaluate(in);
+  ASSERT_TRUE(travel.valid) << travel.reason;
+  EXPECT_EQ(travel.fitness, travel.metrics.at("travel"));
+  const double cot = travel.metrics.at("cost_of_transport");
+  EXPECT_NEAR(cot, travel.metrics.at("servo_energy_j") / (0.045 * 9.81 * travel.fitness), 1e-9);
+  EXPECT_GT(cot, 0);
+  in.options["fitness"] = "cost_of_transport";
+  const objectives::EvalResult cost = objective.Evaluate(in);
+  ASSERT_TRUE(cost.valid) << cost.reason;
+  EXPECT_EQ(cost.fitness, -cot);
+  // Another knee is another robot; a knee out of its range is a reason.
+  in.genes[4] = 0.12;
+  EXPECT_NE(objective.Evaluate(in).metrics.at("travel"), travel.fitness);
+  in.genes[4] = 5;
+  const objectives::EvalResult bad = objective.Evaluate(in);
+  EXPECT_FALSE(bad.valid);
+  EXPECT_NE(bad.reason.find("gene knee.stiffness_nm_per_rad"), std::string::npos) << bad.reason;
 }
 
 }  // namespace

@@ -97,7 +97,7 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
       o.measured_cycles >= 0 ? o.measured_cycles : static_cast<int>(v("simulation.measured_cycles"));
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
   int64_t settle_steps = 0, total = 0;
-  double start_x = 0, end_x = 0;
+  double start_x = 0, end_x = 0, start_energy = 0;
   const auto steps = [&](const GenericWorld& w) {
     if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
@@ -105,9 +105,14 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
     return total = settle_steps + std::llround(measured * period / w.timestep());
   };
   const auto each = [&](const GenericWorld& w, int64_t i) {
-    if (i == settle_steps) start_x = w.CentreOfMass()[0];
+    if (i == settle_steps) {
+      start_x = w.CentreOfMass()[0];
+      start_energy = w.servo_energy();
+    }
     r.max_tilt_rad = w.max_tilt();
     r.torque_limited_fraction = w.torque_limited_fraction();
+    r.servo_energy_j = w.servo_energy() - start_energy;
+    r.weight_n = w.total_mass() * v("simulation.gravity_m_per_s2");
     if (i == total) end_x = w.CentreOfMass()[0];
   };
   const double offset =

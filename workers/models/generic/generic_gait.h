@@ -31,6 +31,8 @@ struct GaitResult {
   double simulated_s = 0;
   double max_tilt_rad = 0;            // GenericWorld::max_tilt over the whole run
   double torque_limited_fraction = 0; // GenericWorld::torque_limited_fraction
+  double servo_energy_j = 0;          // over the measured part (cycles or duration_s)
+  double weight_n = 0;                // total mass times gravity
 };
 
 // Commands (rad) of each actuator, in descriptor order, at time t for these genes; an

@@ -1,6 +1,7 @@
 #include "workers/models/generic/generic_objective.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 #include "robots/registry.h"
@@ -66,9 +67,12 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     r.reason = g.reason;
     return r;
   }
-  r.valid = true;
   r.metrics["max_tilt_rad"] = g.max_tilt_rad;
   r.metrics["torque_limited_fraction"] = g.torque_limited_fraction;
+  r.metrics["servo_energy_j"] = g.servo_energy_j;
+  // Cost of transport: work per weight and distance (dimensionless; paper 002's measure).
+  const double cot = g.travel_m > 0 ? g.servo_energy_j / (g.weight_n * g.travel_m) : NAN;
+  if (g.travel_m > 0) r.metrics["cost_of_transport"] = cot;
   if (o.duration_s > 0) {
     r.fitness = g.travel_m;
     r.metrics["travel"] = g.travel_m;
@@ -76,6 +80,14 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     r.fitness = g.distance_per_cycle_m;
     r.metrics["distance_per_cycle"] = g.distance_per_cycle_m;
   }
+  if (auto it = in.options.find("fitness"); it != in.options.end() && it->second == "cost_of_transport") {
+    if (!(g.travel_m > 0)) {
+      r.reason = "cost of transport: the robot did not move forward";
+      return r;
+    }
+    r.fitness = -cot;
+  }
+  r.valid = true;
   return r;
 }
 

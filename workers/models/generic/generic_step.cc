@@ -170,9 +170,23 @@ void GenericWorld::Observe() {
     const double tx = f.t2[0] - (ry * f.f2[2] - rz * f.f2[1]);
     const double ty = f.t2[1] - (rz * f.f2[0] - rx * f.f2[2]);
     const double tz = f.t2[2] - (rx * f.f2[1] - ry * f.f2[0]);
-    const double torque = std::fabs(tx * axis[0] + ty * axis[1] + tz * axis[2]);
-    if (servos_[i].max_torque > 0 && torque >= 0.99 * servos_[i].max_torque) ++torque_limited_;
+    // Signed: the torque on the second body about the axis, along which the rate is taken.
+    const double torque = tx * axis[0] + ty * axis[1] + tz * axis[2];
+    if (servos_[i].max_torque > 0 && std::fabs(torque) >= 0.99 * servos_[i].max_torque)
+      ++torque_limited_;
+    // Its power: the torque on body 2 times body 2's spin about the axis relative to body 1
+    // (body 1 takes the opposite torque), computed from the bodies to need no sign rule.
+    const dReal* w1 = dBodyGetAngularVel(dJointGetBody(j, 0));
+    const dReal* w2 = dBodyGetAngularVel(dJointGetBody(j, 1));
+    const double spin = (w2[0] - w1[0]) * axis[0] + (w2[1] - w1[1]) * axis[1] + (w2[2] - w1[2]) * axis[2];
+    servo_energy_ += std::max(0.0, torque * spin) * h_;
   }
+}
+
+double GenericWorld::total_mass() const {
+  double m = 0;
+  for (double x : masses_) m += x;
+  return m;
 }
 
 double GenericWorld::torque_limited_fraction() const {

@@ -80,6 +80,10 @@ class GenericWorld {
   // Of the servo-steps so far, the fraction in which a servo gave at least 99% of its
   // max_torque (it was stalled by its torque limit); 0 without servos.
   double torque_limited_fraction() const;
+  // The servos' positive mechanical work so far (J): the sum over steps and servos of
+  // max(0, torque * joint rate) * h (a servo braking a joint stores nothing).
+  double servo_energy() const { return servo_energy_; }
+  double total_mass() const;
 
  private:
   GenericWorld(const robots::RobotDescriptor& d, double timestep_s);
@@ -137,6 +141,7 @@ class GenericWorld {
   std::deque<dJointFeedback> feedback_;
   double max_tilt_ = 0;
   int64_t torque_limited_ = 0;
+  double servo_energy_ = 0;
 };
 
 }  // namespace gaitforge::generic
