@@ -86,7 +86,81 @@ std::vector<double> SineSyncCommands(const Controller& c, const std::vector<doub
   return out;
 }
 
+// Four coupled phase oscillators (paper 003's CPG; Kuramoto form): for the actuators FL, FR,
+// HL, HR (in that order) with target phases 0, lr, fh, fh + lr (cycles),
+//   d phi_i / dt = 2 pi f + w sum_{j != i} sin(phi_j - phi_i - 2 pi (target_j - target_i)),
+// from phi = 2 pi (0, 0.1, 0.2, 0.3) (a spread like no pattern, so the coupling has to lock
+// it; all equal phases would be an equilibrium of a walk); hip_i = off + amp sin(phi_i),
+// front or hind amp and off. lr = 0 is a bound,
+// 0.5 a walk on diagonals (a trot). Genes: f, amp_front, amp_hind, off_front, off_hind, lr,
+// fh, w (1/s).
+std::vector<Gene> CpgGenes(const Controller& c) {
+  const auto& f = c.ranges.at("frequency_hz");
+  const auto& amp = c.ranges.at("amplitude_rad");
+  const auto& off = c.ranges.at("offset_rad");
+  const auto& w = c.ranges.at("coupling_per_s");
+  return {{"f", f[0], f[1]},          {"amp_front", amp[0], amp[1]}, {"amp_hind", amp[0], amp[1]},
+          {"off_front", off[0], off[1]}, {"off_hind", off[0], off[1]}, {"lr", 0, 1, true},
+          {"fh", 0, 1, true},         {"w", w[0], w[1]}};
+}
+
+std::vector<double> CpgTargets(const std::vector<double>& g) {
+  return {0, g[5], g[6], g[6] + g[5]};
+}
+
+std::vector<double> CpgInitial(const Controller&, const std::vector<double>&) {
+  return {0.0, 0.2 * M_PI, 0.4 * M_PI, 0.6 * M_PI};
+}
+
+std::vector<double> CpgRates(const std::vector<double>& g, const std::vector<double>& phi) {
+  const std::vector<double> target = CpgTargets(g);
+  std::vector<double> rate(4, 2 * M_PI * g[0]);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (j != i) rate[i] += g[7] * std::sin(phi[j] - phi[i] - 2 * M_PI * (target[j] - target[i]));
+  return rate;
+}
+
+// One classical Runge-Kutta step.
+void CpgAdvance(const Controller&, const std::vector<double>& g, double dt,
+                std::vector<double>& phi) {
+  auto shifted = [&](const std::vector<double>& k, double by) {
+    std::vector<double> out = phi;
+    for (int i = 0; i < 4; ++i) out[i] += by * k[i];
+    return out;
+  };
+  const auto k1 = CpgRates(g, phi);
+  const auto k2 = CpgRates(g, shifted(k1, dt / 2));
+  const auto k3 = CpgRates(g, shifted(k2, dt / 2));
+  const auto k4 = CpgRates(g, shifted(k3, dt));
+  for (int i = 0; i < 4; ++i) phi[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+}
+
+std::vector<double> CpgCommands(const Controller&, const std::vector<double>& g,
+                                const std::vector<double>& phi) {
+  std::vector<double> out(4);
+  for (int i = 0; i < 4; ++i)
+    out[i] = (i < 2 ? g[3] : g[4]) + (i < 2 ? g[1] : g[2]) * std::sin(phi[i]);
+  return out;
+}
+
+std::vector<double> CpgAt(const Controller& c, const std::vector<double>& genes, double t) {
+  return ControllerRun(c, genes).At(t);
+}
+
 }  // namespace
+
+ControllerRun::ControllerRun(const Controller& c, std::vector<double> genes)
+    : c_(c), kind_(*FindControllerKind(c.kind)), genes_(std::move(genes)) {
+  if (kind_.initial_state) state_ = kind_.initial_state(c_, genes_);
+}
+
+std::vector<double> ControllerRun::At(double t) {
+  if (!kind_.advance) return kind_.commands(c_, genes_, t);
+  const long target = static_cast<long>(std::floor(t / kStep + 1e-9));
+  for (; steps_ < target; ++steps_) kind_.advance(c_, genes_, kStep, state_);
+  return kind_.state_commands(c_, genes_, state_);
+}
 
 const std::vector<ControllerKind>& ControllerKinds() {
   static const std::vector<ControllerKind> kinds = {
@@ -112,6 +186,19 @@ const std::vector<ControllerKind>& ControllerKinds() {
        &SineSyncGenes,
        &SinePeriod,
        &SineSyncCommands},
+      {"cpg",
+       "four coupled phase oscillators (Kuramoto) for hips FL, FR, HL, HR: genes f, amp_front, "
+       "amp_hind, off_front, off_hind, lr (left-right phase: 0 bound, 0.5 walk), fh "
+       "(front-hind phase), w (coupling, 1/s) (paper 003)",
+       {"frequency_hz", "amplitude_rad", "offset_rad", "coupling_per_s"},
+       &CpgGenes,
+       &SinePeriod,
+       &CpgAt,
+       true,
+       4,
+       &CpgInitial,
+       &CpgAdvance,
+       &CpgCommands},
   };
   return kinds;
 }

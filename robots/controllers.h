@@ -26,6 +26,38 @@ struct ControllerKind {
                                   double t);
   // True when the commands are set-point angles (servos), false for on/off.
   bool set_points = true;
+  // The number of actuators the kind drives (0: any).
+  int actuators = 0;
+  // A kind with state (cpg: coupled oscillators) gives its state at t = 0, one step of it,
+  // and the commands of a state; `commands` then integrates from 0 (ControllerRun does
+  // it once per run).
+  std::vector<double> (*initial_state)(const Controller& c, const std::vector<double>& genes) =
+      nullptr;
+  void (*advance)(const Controller& c, const std::vector<double>& genes, double dt,
+                  std::vector<double>& state) = nullptr;
+  std::vector<double> (*state_commands)(const Controller& c, const std::vector<double>& genes,
+                                        const std::vector<double>& state) = nullptr;
+};
+
+// The commands of one genotype over a run, asked in time order. A stateless kind is a
+// function of time; a stateful one is integrated at a fixed internal step (1 ms, the state
+// at the last step at or before t), so the commands at a time never depend on when, or how
+// often, they were asked for.
+class ControllerRun {
+ public:
+  static constexpr double kStep = 1e-3;  // s
+  ControllerRun(const Controller& c, std::vector<double> genes);
+  // Each actuator's command at t >= 0 (s), in the controller's order; t must not decrease
+  // between calls.
+  std::vector<double> At(double t);
+  // A stateful kind's state after the last At (cpg: the four phases, rad); else empty.
+  const std::vector<double>& state() const { return state_; }
+
+ private:
+  const Controller& c_;
+  const ControllerKind& kind_;
+  std::vector<double> genes_, state_;
+  long steps_ = 0;  // the state is at steps_ * kStep
 };
 
 const std::vector<ControllerKind>& ControllerKinds();

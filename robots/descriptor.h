@@ -110,6 +110,10 @@ struct Body {
   Expr mass;          // kg, uniform density
   Vec3Expr position;  // m, world frame, at the start
   std::optional<Expr> pitch;  // rad about +y at the start (+: the body's +x tips down)
+  // Its own ground contact, where it differs from ground's: Coulomb coefficient, and the
+  // overlap with the ground it may keep before it touches (m; the intent of Gazebo's
+  // min_depth, paper 003's d: the foot rests that deep, without friction in the layer).
+  std::optional<Expr> friction, contact_depth;
   Mark mark;
 };
 

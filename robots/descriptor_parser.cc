@@ -123,6 +123,10 @@ Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescrip
   auto acts = f.StringList(node["actuators"], "controller.actuators");
   if (!acts.ok()) return acts.status();
   c.actuators = *acts;
+  if (k->actuators > 0 && static_cast<int>(c.actuators.size()) != k->actuators)
+    return f.Error(node["actuators"], "controller.actuators",
+                   absl::StrCat("kind ", c.kind, " drives exactly ", k->actuators, " actuators, got ",
+                                c.actuators.size()));
   for (const std::string& key : k->range_keys) {
     const std::string path = "controller." + key;
     std::array<double, 2> r{};

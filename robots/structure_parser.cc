@@ -61,7 +61,8 @@ Status CheckNewName(const YamlFields& f, const YAML::Node& node, const std::stri
 
 Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& path,
                  RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position", "pitch"});
+  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position", "pitch",
+                                      "friction", "contact_depth"});
       !s.ok())
     return s;
   Body b;
@@ -78,7 +79,9 @@ Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& pa
   if (Status s = ReadVec(f, n["size"], path + ".size", d, b.size); !s.ok()) return s;
   if (Status s = ReadExpr(f, n["mass"], path + ".mass", d, b.mass); !s.ok()) return s;
   if (Status s = ReadVec(f, n["position"], path + ".position", d, b.position); !s.ok()) return s;
-  if (Status s = ReadOptional(f, n, "pitch", path, d, b.pitch); !s.ok()) return s;
+  for (auto [key, out] : {std::pair{"pitch", &b.pitch}, std::pair{"friction", &b.friction},
+                          std::pair{"contact_depth", &b.contact_depth}})
+    if (Status s = ReadOptional(f, n, key, path, d, *out); !s.ok()) return s;
   d.bodies.push_back(std::move(b));
   return absl::OkStatus();
 }

@@ -104,7 +104,8 @@ int CmdExport(const GlobalOptions& g, const std::vector<std::string>& args, int 
   const double period = kind->period_s(genes);
   const size_t samples = static_cast<size_t>(std::floor(cycles * period * rate + 1e-9)) + 1;
   std::vector<std::vector<double>> rows;
-  for (size_t i = 0; i < samples; ++i) rows.push_back(kind->commands(d.controller, genes, i / rate));
+  robots::ControllerRun run(d.controller, genes);
+  for (size_t i = 0; i < samples; ++i) rows.push_back(run.At(i / rate));
   std::ofstream file(out);
   file << "t," << absl::StrJoin(d.controller.actuators, ",") << "\n";
   for (size_t i = 0; i < samples; ++i) {

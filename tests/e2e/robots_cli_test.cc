@@ -41,7 +41,7 @@ TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
 
   auto unknown = RunCommand(Bin("gaitforge") + " robots centipede");
   EXPECT_EQ(unknown.exit_code, 3);
-  EXPECT_THAT(unknown.err, HasSubstr("known: caterpillar, walker"));
+  EXPECT_THAT(unknown.err, HasSubstr("known: caterpillar, walker, tigrillo"));
 }
 
 }  // namespace

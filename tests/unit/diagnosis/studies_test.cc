@@ -129,7 +129,7 @@ TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOne
   d.set_robot("twobox");
   const absl::Status s = Validate(d);
   EXPECT_NE(s.message().find("field 'robot': 'twobox'"), std::string::npos) << s;
-  EXPECT_NE(s.message().find("built in: caterpillar, walker; or a descriptor file"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("built in: caterpillar, walker, tigrillo; or a descriptor file"), std::string::npos) << s;
 }
 
 }  // namespace

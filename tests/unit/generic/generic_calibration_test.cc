@@ -176,7 +176,7 @@ TEST_F(GenericCalibrationTest, BadGenesAndRecordingsAreReasons) {
       csv, R"({"robot": "twobox", "command": {"kind": "gait", "genes": [2, 0.6, 0.2, 0.25]}})",
       "a.csv", "a.csv.json");
   EXPECT_THAT(std::string(unknown.status().message()),
-              HasSubstr("unknown robot 'twobox' (built in: caterpillar, walker; another robot's "
+              HasSubstr("unknown robot 'twobox' (built in: caterpillar, walker, tigrillo; another robot's "
                         "recording needs its descriptor)"));
   auto bad_channel = recording::ParseRecording(
       "t,elbow.angle\n0,0\n0.01,0\n",

@@ -382,7 +382,7 @@ INSTANTIATE_TEST_SUITE_P(
     Sidecar, RecordingErrorTest,
     testing::Values(
         ErrorCase{"UnknownRobot", kCsv, Side("  \"robot\": \"centipede\",\n" + kCommand),
-                  "rec.csv.json:2:12: unknown robot 'centipede' (built in: caterpillar, walker; another robot's "
+                  "rec.csv.json:2:12: unknown robot 'centipede' (built in: caterpillar, walker, tigrillo; another robot's "
                   "recording needs its descriptor)"},
         ErrorCase{"RobotNotString", kCsv, Side("  \"robot\": 5,\n" + kCommand),
                   "rec.csv.json:2:12: key 'robot': expected a string, got the number 5"},

@@ -20,8 +20,12 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
     return absl::InvalidArgumentError(absl::StrCat(
         "the generic model drives servos with set-point angles; controller kind ", c.kind,
         " switches actuators on and off"));
-  // The controller's commands, in its actuators' order, placed in descriptor order.
-  const std::vector<double> command = kind->commands(c, genes, t);
+  return InDescriptorOrder(d, robots::ControllerRun(c, genes).At(t));
+}
+
+std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
+                                      const std::vector<double>& command) {
+  const robots::Controller& c = d.controller;
   std::vector<double> out(d.actuators.size(), 0.0);
   for (size_t k = 0; k < c.actuators.size(); ++k)
     for (size_t i = 0; i < d.actuators.size(); ++i)
@@ -50,9 +54,11 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
   GenericWorld& w = **world;
   const double delay = v.Effect("effect.actuator_delay_s");
   const int64_t total = steps(w);
+  robots::ControllerRun controller(d.controller, genes);
   for (int64_t i = 0; i < total; ++i) {
     each(w, i);
-    const sim::SimOutcome out = w.Step(*Commands(d, genes, std::max(0.0, w.time() - delay) + time_offset_s));
+    const sim::SimOutcome out = w.Step(InDescriptorOrder(
+        d, controller.At(std::max(0.0, w.time() - delay) + time_offset_s)));
     if (!out.ok) {
       *reason = out.reason;
       *simulated_s = w.time();

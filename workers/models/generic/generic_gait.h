@@ -40,6 +40,10 @@ struct GaitResult {
 absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
                                              const std::vector<double>& genes, double t);
 
+// A command vector in the controller's actuator order, placed in descriptor order.
+std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
+                                      const std::vector<double>& command);
+
 // The robot's channels (its sensors: robots::RobotDescriptor::Channels) sampled at rate_hz,
 // from t = 0, over `cycles` gait periods from rest; rate_hz must give a whole number of
 // timesteps (timestep_s <= 0: the robot's simulation.timestep_s) per sample.

@@ -60,7 +60,9 @@ void GenericWorld::AddGroundContacts() {
       const double ly = (corner & 2 ? 0.5 : -0.5) * len[1];
       const double lz = (corner & 4 ? 0.5 : -0.5) * len[2];
       const double z = p[2] + r[8] * lx + r[9] * ly + r[10] * lz;
-      if (z > 0) continue;
+      // A body with a contact depth d touches only once a corner is deeper than d: it
+      // rests d deep (the allowed overlap), pushed back only by what lies beyond.
+      if (z > -contact_depth_[i]) continue;
       dContactGeom& g = hits[n++];
       g.pos[0] = p[0] + r[0] * lx + r[1] * ly + r[2] * lz;
       g.pos[1] = p[1] + r[4] * lx + r[5] * ly + r[6] * lz;
@@ -68,11 +70,12 @@ void GenericWorld::AddGroundContacts() {
       g.normal[0] = 0;
       g.normal[1] = 0;
       g.normal[2] = 1;
-      g.depth = -z;
+      g.depth = -z - contact_depth_[i];
     }
+    // The deepest corner: the lowest.
     int deepest = 0;
     for (int k = 1; k < n; ++k)
-      if (hits[k].depth > hits[deepest].depth) deepest = k;
+      if (hits[k].pos[2] < hits[deepest].pos[2]) deepest = k;
     for (int k = 0; k < n; ++k) {
       dContact c{};
       c.geom = hits[k];
@@ -86,7 +89,7 @@ void GenericWorld::AddGroundContacts() {
       // A direction-dependent coefficient replaces the ground's own when it is set (> 0).
       const double vx = dBodyGetLinearVel(bodies_[i])[0];
       const double directed = vx >= 0 ? friction_forward_ : friction_backward_;
-      const double mu = directed > 0 ? directed : friction_;
+      const double mu = directed > 0 ? directed : body_friction_[i];
       if (k != deepest) {
         c.surface.mu = 0;
       } else if (std::isinf(mu)) {

@@ -121,6 +121,13 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->friction_ = Eval(d.ground->friction, v);
   w->contact_erp_ = Eval(d.ground->erp, v);
   w->contact_cfm_ = Eval(d.ground->cfm, v);
+  for (const robots::Body& b : d.bodies) {
+    w->body_friction_.push_back(b.friction ? Eval(*b.friction, v) : w->friction_);
+    w->contact_depth_.push_back(b.contact_depth ? Eval(*b.contact_depth, v) : 0.0);
+    if (!(w->body_friction_.back() >= 0 && w->contact_depth_.back() >= 0))
+      return absl::InvalidArgumentError(absl::StrCat(
+          b.mark.ToString(), ": body ", b.name, "'s friction and contact_depth must be >= 0"));
+  }
   w->body_load_ = d.ground->friction_load == "body";
   w->load_.assign(d.bodies.size(), 0.0);
   w->contact_feedback_.resize(d.bodies.size() * kMaxContacts);

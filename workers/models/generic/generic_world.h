@@ -113,6 +113,9 @@ class GenericWorld {
   std::vector<dBodyID> bodies_;
   std::vector<dGeomID> geoms_;
   std::vector<double> masses_;
+  // Per body: its ground friction coefficient (the ground's unless it gives its own) and
+  // the overlap it may keep (m).
+  std::vector<double> body_friction_, contact_depth_;
   std::vector<std::array<double, 3>> start_;
   std::vector<dJointID> joints_;
   std::vector<Spring> springs_;

@@ -1,7 +1,9 @@
-// Paper 001's study (examples/walker-sweep.yaml) on a small grid through the real CLI,
-// coordinator and workers: a grid over gait and body genes, then Nelder-Mead, with its
-// constraints; the result ignores the worker count. Body genes that are not the robot's
-// parameters, or leave their ranges, are refused before anything starts.
+// The papers' legged robots through the real CLI, coordinator and workers, on small
+// budgets. Paper 001's study (examples/walker-sweep.yaml): a grid over gait and body genes,
+// then Nelder-Mead, with its constraints; the result ignores the worker count; body genes
+// that are not the robot's parameters, or leave their ranges, are refused before anything
+// starts. Paper 003's CPG walk (examples/tigrillo-walk.yaml) by CMA-ES on its calibrated
+// model.
 #include <algorithm>
 #include <filesystem>
 #include <regex>
@@ -81,6 +83,28 @@ TEST(WalkerStudy, BodyGenesMustBeTheRobotsParametersInTheirRanges) {
   EXPECT_THAT(wide.err, AllOf(HasSubstr("bounds[5]"), HasSubstr("ground.friction_coefficient = 20"),
                               HasSubstr("[0, 10]")));
   EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
+}
+
+TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
+  TempDir dir;
+  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/tigrillo-walk.yaml");
+  text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
+  text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 2");
+  WriteFile(dir.File("spec.yaml"), text);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  auto r = RunCommand(cli + " local spec.yaml --workers 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("completed after 2 generations"));
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
+  auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
+  EXPECT_THAT(hof.out, AllOf(HasSubstr("\"distance_per_cycle\":"), HasSubstr("\"max_tilt_rad\":")));
+  // The walk's left-right phase stays in its bounds; eight CPG genes.
+  std::smatch genes;
+  ASSERT_TRUE(std::regex_search(hof.out, genes, std::regex(R"re("genes":\[([^\]]*)\])re")));
+  const std::string list_genes = genes[1];
+  EXPECT_EQ(std::count(list_genes.begin(), list_genes.end(), ','), 7) << list_genes;
 }
 
 }  // namespace
