@@ -48,6 +48,15 @@ std::string Evaluate(const std::vector<std::string>& files, const std::string& s
   std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ",")};
   if (!set.empty()) argv.insert(argv.end(), {"--set", set});
+  // A robot-agnostic calibration's robot: its descriptor as the study stored it (a robot
+  // that is only files), else its built-in name.
+  if (!spec.objective().robot_descriptor().empty()) {
+    const std::string file = out_dir + "-robot.yaml";
+    std::ofstream(file) << spec.objective().robot_descriptor();
+    argv.insert(argv.end(), {"--robot", file});
+  } else if (!spec.objective().robot().empty()) {
+    argv.insert(argv.end(), {"--robot", spec.objective().robot()});
+  }
   // Every option and param of the study's objective, so the report scores what the study did.
   std::vector<std::string> options, params;
   for (const auto& [k, v] : spec.objective().options()) options.push_back(k + "=" + v);
@@ -109,7 +118,11 @@ int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std
     std::cerr << "gaitforge: gaitforge-sim calibration-eval failed\n";
     return kFailed;
   }
-  std::string json = absl::StrCat("{\"study_id\": \"", id, "\",\n\"fitness\": ",
+  const auto channels = spec.objective().options().find("channels");
+  std::string json = absl::StrCat(
+      "{\"study_id\": \"", id, "\",\n\"channels\": ",
+      JsonQuote(channels == spec.objective().options().end() ? "" : channels->second),
+      ",\n\"fitness\": ",
                                   absl::StrFormat("%.9g", best.evaluation().fitness()),
                                   ",\n\"parameters\": [");
   for (int i = 0; i < spec.bounds_size() && i < best.genes_size(); ++i) {

@@ -230,7 +230,7 @@ int StudyReport(Connection& conn, const v1::StudySummary& study, const std::stri
                 const GlobalOptions& g, std::vector<std::string>* written) {
   const core::ObjectiveInfo* info = core::FindObjective(study.spec().objective().name());
   if (!info) return kOk;
-  if (!info->calibrates.empty()) {
+  if (info->calibration) {
     if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
     return CalibrationReport(conn, study, out_dir, g, written);
   }

@@ -200,6 +200,16 @@ def aligned(real, sim_path, channel, shift_s):
     return [x + off for x in s]
 
 
+def overlay_channels(report, recording):
+    """Up to four channels to overlay: the study's compared channels (its channels option),
+    else the caterpillar's usual markers when the recording has them, else its first four."""
+    chosen = [c for c in report.get("channels", "").split(",") if c]
+    if not chosen:
+        usual = ["m1.x", "m6.x", "m3.z", "m6.z"]
+        chosen = usual if all(c in recording for c in usual) else [c for c in recording if c != "t"]
+    return chosen[:4]
+
+
 def calibration(args):
     with open(args.report) as f:
         rep = json.load(f)
@@ -207,7 +217,7 @@ def calibration(args):
     held_b, held_a = rep["held_out_before"]["recordings"], rep["held_out_after"]["recordings"]
     sets = [("train", b, a) for b, a in zip(train_b, train_a)] + \
            [("held-out", b, a) for b, a in zip(held_b, held_a)]
-    channels = ["m1.x", "m6.x", "m3.z", "m6.z"]
+    channels = overlay_channels(rep, read_csv(sets[0][1]["file"]) if sets else {})
     fig, axes = plt.subplots(len(sets), len(channels), figsize=(3.2 * len(channels), 2.4 * len(sets)),
                              squeeze=False)
     for row, (kind, before, after) in enumerate(sets):
@@ -228,7 +238,8 @@ def calibration(args):
             if row == len(sets) - 1:
                 ax.set_xlabel("t (s)", fontsize=8)
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle("recorded vs simulated markers (cf. paper 000 Figs. 11, 12)", fontsize=10)
+    fig.suptitle("recorded vs simulated channels, before and after the fit "
+                 "(cf. paper 000 Figs. 11, 12; paper 003 Fig. 5)", fontsize=10)
     fig.tight_layout()
     out = f"{args.out_prefix}-overlays.svg"
     fig.savefig(out)
@@ -246,7 +257,7 @@ def calibration(args):
     ax.bar([i + 0.2 for i in x], [1000 * v for v in after], 0.4, label="after the fit")
     ax.set_xticks(list(x))
     ax.set_xticklabels(labels)
-    ax.set_ylabel("error (mm; x1000 of the relative error for error = stats)")
+    ax.set_ylabel("error x 1000 (mm or mrad; relative for error = stats)")
     ax.set_title("calibration error before and after", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -107,5 +107,33 @@ TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
   EXPECT_EQ(std::count(list_genes.begin(), list_genes.end(), ','), 7) << list_genes;
 }
 
+// Paper 003's calibration (examples/tigrillo-calibration.yaml) on a small budget: its
+// knee-angle recordings upload, CMA-ES fits the seven parameters within their bounds, and
+// the report scores the fit before and after on training and held-out recordings and
+// draws the knee angles against the recordings.
+TEST(TigrilloStudy, PaperThreesKneeAngleCalibrationRunsAndReports) {
+  TempDir dir;
+  const std::string examples = std::string(GAITFORGE_SOURCE_DIR) + "/examples";
+  std::string text = ReadFile(examples + "/tigrillo-calibration.yaml");
+  text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
+  text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 1");
+  text = std::regex_replace(text, std::regex("recordings/tigrillo/"), examples + "/recordings/tigrillo/");
+  WriteFile(dir.File("spec.yaml"), text);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  // `local` reports a calibration when it completes, as `gaitforge report ID` would.
+  auto r = RunCommand(cli + " local spec.yaml --workers 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, AllOf(HasSubstr("knee.hind_stiffness_nm_per_rad"), HasSubstr("mass.front_share")));
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
+  const std::string id = m[1];
+  const std::string json = ReadFile(dir.File("runs/plots/" + id + "-calibration.json"));
+  for (const char* part : {"\"train_before\"", "\"train_after\"", "\"held_out_before\"", "\"held_out_after\""})
+    EXPECT_THAT(json, HasSubstr(part));
+  EXPECT_THAT(json, HasSubstr("knee_hl.angle"));
+  EXPECT_THAT(ReadFile(dir.File("runs/plots/" + id + "-overlays.svg")), HasSubstr("<svg"));
+}
+
 }  // namespace
 }  // namespace gaitforge::testing
