@@ -135,5 +135,21 @@ TEST(TigrilloStudy, PaperThreesKneeAngleCalibrationRunsAndReports) {
   EXPECT_THAT(ReadFile(dir.File("runs/plots/" + id + "-overlays.svg")), HasSubstr("<svg"));
 }
 
+// A knee-angle recording of another robot (the walker's) in the Tigrillo's calibration is
+// never compared as if it were the Tigrillo's: the study stops with the reason.
+TEST(TigrilloStudy, ARecordingOfAnotherRobotIsRefusedWithTheReason) {
+  TempDir dir;
+  auto rec = RunCommand(Bin("gaitforge-sim") + " trajectory --robot walker --genes 2,0.4,0,0.1 "
+                        "--settle 0 --cycles 4 --rate 50 --out " + dir.File("walker.csv"));
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  WriteFile(dir.File("spec.yaml"),
+            "name: wrong-robot\nseed: 1\nengine: cmaes\npopulation: 4\ngenerations: 2\n"
+            "objective:\n  name: robot.calibration\n  robot: tigrillo\n  recordings: [walker.csv]\n"
+            "bounds:\n  - {name: knee.front_stiffness_nm_per_rad, lo: 0.1, hi: 1}\n");
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " local spec.yaml --workers 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("a recording of robot 'walker', not tigrillo")) << r.err;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

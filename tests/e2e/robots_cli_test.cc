@@ -6,6 +6,8 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "absl/strings/str_join.h"
+#include "robots/registry.h"
 #include "tests/e2e/cluster.h"
 #include "tests/support/temp_dir.h"
 
@@ -41,7 +43,7 @@ TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
 
   auto unknown = RunCommand(Bin("gaitforge") + " robots centipede");
   EXPECT_EQ(unknown.exit_code, 3);
-  EXPECT_THAT(unknown.err, HasSubstr("known: caterpillar, walker, tigrillo"));
+  EXPECT_THAT(unknown.err, HasSubstr("known: " + absl::StrJoin(robots::RobotNames(), ", ")));
 }
 
 }  // namespace

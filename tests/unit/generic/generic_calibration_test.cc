@@ -11,6 +11,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "absl/strings/str_join.h"
 #include "robots/registry.h"
 #include "services/recording/recording.h"
 #include "workers/effects/effects.h"
@@ -176,8 +177,8 @@ TEST_F(GenericCalibrationTest, BadGenesAndRecordingsAreReasons) {
       csv, R"({"robot": "twobox", "command": {"kind": "gait", "genes": [2, 0.6, 0.2, 0.25]}})",
       "a.csv", "a.csv.json");
   EXPECT_THAT(std::string(unknown.status().message()),
-              HasSubstr("unknown robot 'twobox' (built in: caterpillar, walker, tigrillo; another robot's "
-                        "recording needs its descriptor)"));
+              HasSubstr("unknown robot 'twobox' (built in: " + absl::StrJoin(robots::RobotNames(), ", ") +
+                        "; another robot's recording needs its descriptor)"));
   auto bad_channel = recording::ParseRecording(
       "t,elbow.angle\n0,0\n0.01,0\n",
       R"({"robot": "twobox", "command": {"kind": "gait", "genes": [2, 0.6, 0.2, 0.25]}})",

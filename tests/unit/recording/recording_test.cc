@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
+#include "absl/strings/str_join.h"
+#include "robots/registry.h"
 
 namespace gaitforge::recording {
 namespace {
@@ -382,8 +384,9 @@ INSTANTIATE_TEST_SUITE_P(
     Sidecar, RecordingErrorTest,
     testing::Values(
         ErrorCase{"UnknownRobot", kCsv, Side("  \"robot\": \"centipede\",\n" + kCommand),
-                  "rec.csv.json:2:12: unknown robot 'centipede' (built in: caterpillar, walker, tigrillo; another robot's "
-                  "recording needs its descriptor)"},
+                  "rec.csv.json:2:12: unknown robot 'centipede' (built in: " +
+                      absl::StrJoin(robots::RobotNames(), ", ") +
+                      "; another robot's recording needs its descriptor)"},
         ErrorCase{"RobotNotString", kCsv, Side("  \"robot\": 5,\n" + kCommand),
                   "rec.csv.json:2:12: key 'robot': expected a string, got the number 5"},
         ErrorCase{"MissingRobot", kCsv, Side(kCommand),
