@@ -8,7 +8,7 @@ and what the Python client costs.
 2. Page weight: the dashboard's page and every asset it loads, as served (bytes) and as
    gzip would make them.
 3. The Python client's overhead per `history` call on a 150-generation study: the client
-   (dict rows; DataFrame when pandas is present) against the bare generated stub, same
+   (dict rows; DataFrame when pandas is present) against the raw generated gRPC call, same
    channel, same coordinator.
 
     /usr/bin/python3 bench/usability.py [--bin build/bin] [--spec examples/caterpillar-ga.yaml]
@@ -96,7 +96,7 @@ def client_overhead(binaries, calls):
             return (time.perf_counter() - t) / calls * 1e3
 
         out["rows"] = len(gf.history(study))
-        out["stub_ms"] = timed(lambda: gf._studies.GetHistory(request, timeout=30))
+        out["raw_grpc_ms"] = timed(lambda: gf._studies.GetHistory(request, timeout=30))
         out["client_ms"] = timed(lambda: gf.history(study))
         try:
             import pandas  # noqa: F401
@@ -139,9 +139,9 @@ def main():
     print(f"{'local -> first generation on the dashboard API':44s} {first:.2f} s (+ up to 1 s page poll)")
     print(f"{'page weight, as served':44s} {raw / 1024:.1f} KiB in {len(files)} files")
     print(f"{'page weight, gzip -9 (not served compressed)':44s} {packed / 1024:.1f} KiB")
-    print(f"{'history, bare stub ({} rows)'.format(py['rows']):44s} {py['stub_ms']:.2f} ms/call")
+    print(f"{'history, raw gRPC call ({} rows)'.format(py['rows']):44s} {py['raw_grpc_ms']:.2f} ms/call")
     print(f"{'history, Python client (dict rows)':44s} {py['client_ms']:.2f} ms/call "
-          f"(+{py['client_ms'] - py['stub_ms']:.2f})")
+          f"(+{py['client_ms'] - py['raw_grpc_ms']:.2f})")
     if py["dataframe_ms"] is not None:
         print(f"{'history, Python client (DataFrame)':44s} {py['dataframe_ms']:.2f} ms/call")
     os.makedirs(a.out, exist_ok=True)

@@ -47,8 +47,8 @@ Input: the JSON of
               how many sds the recorded travel lies off (recorded_sds), and
               per axis the RMS of the detrended difference between each variant's residual
               and the main one (shape_per_variant_m) and the largest (shape_m): the model's
-              own spread. A hopping robot's travel moves by tens of percent under such variants
-              (the canonical caterpillar's does): a drift is a mismatch only
+              own spread. A hopping robot's travel moves by tens of percent under such variants:
+              a drift is a mismatch only
               when the recorded travel lies more than 3 sds (+ the drift threshold per cycle)
               from the variants' mean travel, a shape excess only beyond
               sqrt(noise^2 + shape_m^2).

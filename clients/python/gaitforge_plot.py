@@ -201,13 +201,18 @@ def aligned(real, sim_path, channel, shift_s):
 
 
 def overlay_channels(report, recording):
-    """Up to four channels to overlay: the study's compared channels (its channels option),
-    else the caterpillar's usual markers when the recording has them, else its first four."""
+    """Up to four channels to overlay: the study's compared channels (its channels option);
+    else, for markers, the first and last markers' x and a middle and the last marker's z
+    (travel and lift); else the recording's first four channels."""
     chosen = [c for c in report.get("channels", "").split(",") if c]
     if not chosen:
-        usual = ["m1.x", "m6.x", "m3.z", "m6.z"]
-        chosen = usual if all(c in recording for c in usual) else [c for c in recording if c != "t"]
-    return chosen[:4]
+        xs = [c for c in recording if c.endswith(".x")]
+        zs = [c for c in recording if c.endswith(".z")]
+        if xs and zs:
+            chosen = [xs[0], xs[-1], zs[(len(zs) - 1) // 2], zs[-1]]
+        else:
+            chosen = [c for c in recording if c != "t"]
+    return list(dict.fromkeys(chosen))[:4]
 
 
 def calibration(args):

@@ -24,8 +24,8 @@
 
 namespace gaitforge::diagnosis {
 
-// Numerically irrelevant variants of the model (robots/numerics.h): the canonical caterpillar
-// hops, so these move its travel by tens of percent (../shared/robots/caterpillar.md). Every
+// Numerically irrelevant variants of the model (robots/numerics.h): a hopping robot's travel
+// moves by tens of percent under them (docs/diagnosis.md). Every
 // held-out error is the mean over them, and a discovery must win in the paired comparison
 // across them.
 std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
