@@ -53,6 +53,25 @@ struct Scale {
   std::vector<std::string> multiplies;  // parameter names
 };
 
+// A model error the robot's authors suspect (`suspects:`; docs/robots.md): one or more of its
+// calibratable parameters or scales that may be set wrong, with the range a fit may search.
+// The gap finder tries it beside the effect catalog's entries (workers/effects/).
+struct Suspect {
+  std::string id;          // "knee.hind_stiffness"; not a catalog effect's id
+  std::string name;        // short human name
+  std::string meaning;     // what may be wrong, and why it is suspected
+  std::string where;       // the residual pattern it would leave
+  std::string experiment;  // an experiment that settles it
+  struct Fit {
+    std::string name;       // a calibratable parameter or a scale ("scale.x")
+    double lo = 0, hi = 0;  // the range a fit searches
+    double nominal = 0;     // the model as it is: the parameter's value, 1 for a scale
+    std::string unit;
+  };
+  std::vector<Fit> fit;
+  Mark mark;
+};
+
 // A linear relation between parameters that must hold: sum(lhs) OP sum(rhs), each side a
 // signed sum of parameter names, OP one of < <= > >=.
 struct Relation {
@@ -164,6 +183,7 @@ struct RobotDescriptor {
   std::string source;   // the file it was read from, for messages
   std::vector<Parameter> parameters;
   std::vector<Scale> scales;
+  std::vector<Suspect> suspects;
   std::vector<Relation> relations;
   Controller controller;
   std::vector<Sensor> sensors;

@@ -10,6 +10,7 @@
 #include "robots/controllers.h"
 #include "robots/relations.h"
 #include "robots/structure_parser.h"
+#include "robots/suspects_parser.h"
 #include "robots/yaml_fields.h"
 
 namespace gaitforge::robots {
@@ -249,8 +250,8 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "parameters",
-                                       "scales", "relations", "controller", "sensors", "bodies",
-                                       "joints", "actuators", "ground"});
+                                       "scales", "suspects", "relations", "controller", "sensors",
+                                       "bodies", "joints", "actuators", "ground"});
       !s.ok())
     return s;
   RobotDescriptor d;
@@ -261,6 +262,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   if (Status s = ParseParameters(f, root["parameters"], "", d); !s.ok()) return s;
   if (root["scales"])
     if (Status s = ParseScales(f, root["scales"], d); !s.ok()) return s;
+  if (root["suspects"])
+    if (Status s = ParseSuspects(f, root["suspects"], d); !s.ok()) return s;
   if (root["relations"])
     if (Status s = ParseRelations(f, root["relations"], d); !s.ok()) return s;
   if (!root["controller"])

@@ -75,17 +75,24 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
   for (const auto& b : d.base_parameters()) {
     c.genes.push_back(b);
     c.mean0.push_back(0.5 * (b.lo() + b.hi()));
+    c.gene_effect.emplace_back();
   }
+  auto robot = RobotOf(d);  // validated before any candidate is made
   for (const auto& id : effect_ids) {
-    for (const auto& p : effects::FindEffect(id)->params) {
+    std::optional<effects::EffectInfo> e;
+    if (robot.ok()) e = effects::FindEffect(id, **robot);
+    if (!e) continue;
+    for (const auto& p : e->params) {
       c.genes.push_back(Bound(p.name, p.lo, p.hi));
       c.mean0.push_back(p.nominal);
+      c.gene_effect.push_back(id);
     }
   }
   if (d.time_offset_range_s() > 0) {
     c.genes.push_back(Bound("nuisance.time_offset_s", -d.time_offset_range_s(),
                             d.time_offset_range_s()));
     c.mean0.push_back(0.0);
+    c.gene_effect.emplace_back();
   }
   c.k = static_cast<int>(c.genes.size());
   return c;

@@ -21,7 +21,8 @@ namespace gaitforge::diagnosis {
 struct Candidate : FitScore {
   std::string label;                  // effect id(s), "baseline" for none
   std::vector<v1::GeneBound> genes;   // what the study fits
-  std::vector<double> mean0;
+  std::vector<double> mean0;          // where the fit starts: an effect's nominal value
+  std::vector<std::string> gene_effect;  // per gene, the effect id it belongs to ("": none)
   std::string study_id;
   std::string reason;
   std::vector<double> values, spread;

@@ -241,17 +241,15 @@ RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effe
     const double share = RangeShare(p, g.lo(), g.hi());
     if (share >= kUndeterminedShare)
       loose.push_back(absl::StrFormat("%s (%.0f%%)", g.name(), 100 * share));
-    for (const std::string& id : c.effects) {
-      const auto* e = effects::FindEffect(id);
-      if (!e) continue;
-      for (const auto& param : e->params) {
-        if (param.name != g.name() || !RangeHolds(p, param.nominal, g.lo(), g.hi())) continue;
-        if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
-        unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
-                                             end(p.lo, p.open_lo, g.lo()),
-                                             end(p.hi, p.open_hi, g.hi()), param.nominal));
-      }
-    }
+    // An effect's gene starts at its nominal value (the effect absent: Make).
+    if (i >= c.gene_effect.size() || c.gene_effect[i].empty() || i >= c.mean0.size()) continue;
+    const std::string& id = c.gene_effect[i];
+    const double nominal = c.mean0[i];
+    if (!RangeHolds(p, nominal, g.lo(), g.hi())) continue;
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+    unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
+                                         end(p.lo, p.open_lo, g.lo()),
+                                         end(p.hi, p.open_hi, g.hi()), nominal));
   }
   return {absl::StrJoin(loose, ", "), absl::StrJoin(unneeded, "; "), ids};
 }

@@ -72,8 +72,25 @@ std::string Params(const RunState& s, const Candidate& c) {
   return j + "}";
 }
 
+// The effects' names and meanings, from the catalog or the robot's own suspects.
+std::vector<effects::EffectInfo> Infos(const RunState& s, const Candidate& c) {
+  std::vector<effects::EffectInfo> out;
+  auto robot = RobotOf(s.d);
+  if (!robot.ok()) return out;
+  for (const std::string& id : c.effects)
+    if (auto e = effects::FindEffect(id, **robot)) out.push_back(std::move(*e));
+  return out;
+}
+
 std::string Effect(const RunState& s, const Candidate& c) {
-  std::string j = absl::StrCat("{\"id\": ", JsonQuote(c.label), ", \"params\": ", Params(s, c));
+  std::vector<std::string> names, meanings;
+  for (const auto& e : Infos(s, c)) {
+    names.push_back(e.name);
+    meanings.push_back(e.meaning);
+  }
+  std::string j = absl::StrCat("{\"id\": ", JsonQuote(c.label), ", \"name\": ",
+                               JsonQuote(absl::StrJoin(names, " + ")), ", \"meaning\": ",
+                               JsonQuote(absl::StrJoin(meanings, " ")), ", \"params\": ", Params(s, c));
   if (const auto range = s.ranges.find(&c); range != s.ranges.end())
     absl::StrAppend(&j, ", \"range_tolerance\": ", Num(range->second.tolerance),
                     ", \"range_evaluations\": ", range->second.evaluations,
@@ -123,8 +140,10 @@ std::string Experiment(const RunState& s, const NoneReading& none) {
   if (!none.experiment.empty()) return none.experiment;
   std::string e;
   if (s.decision.verdict == "ambiguous")
-    for (const auto* c : s.named)
-      if (const auto* info = effects::FindEffect(c->effects[0])) e += info->experiment + " ";
+    for (const auto* c : s.named) {
+      const auto infos = Infos(s, *c);
+      if (!infos.empty()) e += infos[0].experiment + " ";
+    }
   return e;
 }
 

@@ -33,12 +33,18 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.held_out_size() == 0)
     return absl::InvalidArgumentError(
         "field 'held_out': at least one recording is required (decisions rest on it)");
+  for (const auto& suspect : (*robot)->suspects)
+    if (effects::FindEffect(suspect.id))
+      return absl::InvalidArgumentError(absl::StrCat(
+          suspect.mark.ToString(), ": suspects.", suspect.id, ": '", suspect.id,
+          "' is an effect of the catalog (docs/effects.md); give the robot's suspect its own id"));
   for (int i = 0; i < d.candidates_size(); ++i) {
-    const auto* e = effects::FindEffect(d.candidates(i));
+    const auto e = effects::FindEffect(d.candidates(i), **robot);
     if (!e || e->params.empty())
       return absl::InvalidArgumentError(absl::StrCat(
           "field 'candidates[", i, "]': '", d.candidates(i),
-          "' is not a fittable effect (docs/effects.md lists them)"));
+          "' is not a fittable effect (docs/effects.md lists them) or a suspect of ",
+          (*robot)->name));
     if (std::string why = effects::WhyNotApplicable(*e, **robot); !why.empty())
       return absl::InvalidArgumentError(absl::StrCat("field 'candidates[", i, "]': '",
                                                      d.candidates(i), "' cannot be fitted on ",
@@ -84,7 +90,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_margin()) d->set_margin(10);
   auto robot = RobotOf(*d);
   if (d->candidates_size() == 0 && robot.ok())
-    for (const auto& e : effects::EffectCatalog())
+    for (const auto& e : effects::EffectsFor(**robot))
       if (effects::WhyNotApplicable(e, **robot).empty()) d->add_candidates(e.id);
 }
 

@@ -47,7 +47,11 @@ std::string End(double v) { return std::isfinite(v) ? absl::StrFormat("%.4g", v)
 std::string Named(const Struct& e) {
   std::string out;
   const std::string id = S(e, "id");
-  if (const auto* info = effects::FindEffect(id.substr(0, id.find('+'))))
+  // The report names its effects (a robot's own suspects are not in the catalog); reports
+  // written before it did are read through the catalog.
+  if (!S(e, "name").empty())
+    absl::StrAppend(&out, "  ", S(e, "name"), ": ", S(e, "meaning"), "\n");
+  else if (const auto* info = effects::FindEffect(id.substr(0, id.find('+'))))
     absl::StrAppend(&out, "  ", info->name, ": ", info->meaning, "\n");
   const double tolerance = N(e, "range_tolerance");
   std::vector<std::pair<double, std::string>> order;  // the genes' order, as fitted

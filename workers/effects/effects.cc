@@ -73,16 +73,20 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "forward coefficient. A pull test with a force gauge in each direction does the same.",
        "ground"},
       {"actuator.lag",
-       "Actuator force lag",
-       "The pistons build and release pressure gradually: each actuator's push follows its "
-       "command (0 or force_n) through a first-order lag with time constant tau (paper 001: "
-       "servo lag).",
+       "Actuator lag",
+       "Each actuator follows its command through a first-order lag with time constant tau: "
+       "a piston's push builds and releases pressure gradually (the caterpillar's own "
+       "effect.actuator_lag_s); on the generic builder a servo's commanded angle passes this "
+       "lag before the servo's own (paper 001: servo lag; a slower or loaded servo, a "
+       "filtering controller).",
        {{"effect.actuator_lag_s", 0, 0.1, 0, "s"}},
-       "Strokes slower and smaller than simulated, most for short ON windows and short "
-       "periods; rise and fall of the actuator length both rounded; less work per cycle.",
-       "Step response of one actuator on the bench, length (or pressure) after a valve "
-       "switch: a lag rounds the rise, a pure delay shifts it unchanged. A period sweep: a "
-       "lag hurts short periods far more than long ones."},
+       "Strokes slower and smaller than simulated, most for short ON windows, short periods "
+       "and fast joint sweeps; rise and fall both rounded, the joint angles late by a share "
+       "of the cycle that grows with frequency; less work per cycle.",
+       "Step response of one actuator on the bench, length, pressure or joint angle after a "
+       "command step: a lag rounds the rise, a pure delay shifts it unchanged. A period "
+       "sweep: a lag hurts short periods far more than long ones.",
+       "actuators"},
       {"actuator.delay",
        "Actuator command delay",
        "Transport delay of the on/off command (valves, hose volume): each piston acts on "
@@ -122,6 +126,20 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Pull one idle actuator apart with a force gauge: the force at which it starts to "
        "move is F (a lag or a weak push needs no force to move it); or switch it off at full "
        "stroke and watch whether it returns all the way."},
+      {"servo.deadband",
+       "Servo deadband",
+       "A hobby servo's controller ignores position errors inside a band of +-b (the pulse "
+       "width it does not resolve, gear backlash); inside the band it does not drive and its "
+       "geared motor holds the joint (speed 0 up to its torque limit). Paper 001 blames "
+       "servo deadband for part of its reality gap.",
+       {{"effect.servo_deadband_rad", 0, 0.2, 0, "rad"}},
+       "Joint angles that stop short of the commanded ones by up to b and stay put while "
+       "the command turns (flat tops and bottoms of every sweep, a stroke smaller by about "
+       "2b); small strokes lose most, relative to their size.",
+       "Command slow steps of a fraction of a degree to one free servo and read its angle "
+       "(a potentiometer, a camera): it moves only once the command is b away; a lag moves "
+       "at once but slowly.",
+       "servos"},
       {"contact.softness",
        "Soft ground contact",
        "The silicone feet (and the ground) compress: ODE's contact CFM (m/(N s)); the "
@@ -206,11 +224,31 @@ const EffectInfo* FindEffect(std::string_view id) {
   return nullptr;
 }
 
+std::vector<EffectInfo> EffectsFor(const robots::RobotDescriptor& d) {
+  std::vector<EffectInfo> all = EffectCatalog();
+  for (const robots::Suspect& s : d.suspects) {
+    EffectInfo e{s.id, s.name, s.meaning, {}, s.where, s.experiment};
+    for (const auto& f : s.fit) e.params.push_back({f.name, f.lo, f.hi, f.nominal, f.unit});
+    all.push_back(std::move(e));
+  }
+  return all;
+}
+
+std::optional<EffectInfo> FindEffect(std::string_view id, const robots::RobotDescriptor& d) {
+  if (const EffectInfo* e = FindEffect(id)) return *e;
+  for (EffectInfo& e : EffectsFor(d))
+    if (e.id == id) return std::move(e);
+  return std::nullopt;
+}
+
 bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
   if (d.model != "generic") return false;
   if (part == "tether_body" || part == "every_body") return !d.bodies.empty();
   if (part == "ground") return d.ground.has_value();
   if (part == "actuators") return !d.actuators.empty();
+  if (part == "servos")
+    return std::any_of(d.actuators.begin(), d.actuators.end(),
+                       [](const robots::Actuator& a) { return a.type == "servo"; });
   return false;
 }
 

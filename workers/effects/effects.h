@@ -15,8 +15,10 @@
 //
 // Ids are stable (a study or report may store them):
 //   tether.constant tether.growing ground.slope friction.viscous friction.anisotropic
-//   actuator.lag actuator.delay actuator.force_scale actuator.deadband contact.softness mass.offset
+//   actuator.lag actuator.delay actuator.force_scale actuator.deadband servo.deadband
+//   contact.softness mass.offset
 //   stiffness.scale spring.softening model.resolution damping.scale
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,13 +52,20 @@ struct EffectInfo {
 //   every_body   every body, at its centre
 //   ground       the ground contacts
 //   actuators    every actuator's command
+//   servos       every position servo's controller
 inline const std::vector<std::string> kParts = {"tether_body", "every_body", "ground",
-                                                "actuators"};
+                                                "actuators", "servos"};
 
 // Every effect, in the order of the ids above.
 const std::vector<EffectInfo>& EffectCatalog();
 // The effect with this id, or nullptr.
 const EffectInfo* FindEffect(std::string_view id);
+
+// The effects a diagnosis of robot d may try: the catalog's, then the robot's own suspects
+// (its descriptor's `suspects:`, as entries without a part).
+std::vector<EffectInfo> EffectsFor(const robots::RobotDescriptor& d);
+// The catalog's effect with this id, else robot d's suspect with it; nullopt when neither.
+std::optional<EffectInfo> FindEffect(std::string_view id, const robots::RobotDescriptor& d);
 
 // Whether robot d has the part (kParts) and a model that attaches effects to it (generic).
 bool HasPart(const robots::RobotDescriptor& d, std::string_view part);

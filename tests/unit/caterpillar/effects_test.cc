@@ -14,6 +14,7 @@
 
 #include "gmock/gmock.h"
 #include "tests/unit/caterpillar/test_helpers.h"
+#include "robots/registry.h"
 #include "workers/effects/effects.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/gait.h"
@@ -369,7 +370,8 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
   EXPECT_EQ(ids, (std::vector<std::string>{
                      "tether.constant", "tether.growing", "ground.slope", "friction.viscous",
                      "friction.anisotropic", "actuator.lag", "actuator.delay",
-                     "actuator.force_scale", "actuator.deadband", "contact.softness", "mass.offset", "stiffness.scale",
+                     "actuator.force_scale", "actuator.deadband", "servo.deadband", "contact.softness",
+                     "mass.offset", "stiffness.scale",
                      "spring.softening", "model.resolution", "damping.scale"}));
   for (const auto& e : effects::EffectCatalog()) {
     EXPECT_EQ(effects::FindEffect(e.id), &e);
@@ -380,17 +382,20 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
   for (const auto& e : effects::EffectCatalog()) EXPECT_FALSE(e.params.empty()) << e.id;
 }
 
-// Every parameter is a SetParam name, its nominal value is the model as it is, and the
-// forward gait stays a valid simulation at both ends of every range.
+// Every parameter of an effect that applies to the caterpillar is a SetParam name, its
+// nominal value is the model as it is, and the forward gait stays a valid simulation at
+// both ends of every range. (Servo effects apply to robots with servos: generic tests.)
 TEST(EffectCatalog, ParamsAreSettableAndTheirRangesSimulate) {
   std::set<std::string> seen;
   const GaitEvaluation ref = Evaluate(Params());
+  const auto& cat = robots::Robot("caterpillar");
   for (const auto& e : effects::EffectCatalog()) {
     for (const auto& param : e.params) {
       EXPECT_TRUE(seen.insert(param.name).second) << param.name << " in two effects";
       EXPECT_LT(param.lo, param.hi) << param.name;
       EXPECT_GE(param.nominal, param.lo) << param.name;
       EXPECT_LE(param.nominal, param.hi) << param.name;
+      if (!effects::WhyNotApplicable(e, cat).empty()) continue;
       CaterpillarParams nominal = Params();
       ASSERT_TRUE(SetParam(nominal, param.name, param.nominal).ok()) << param.name;
       EXPECT_EQ(Evaluate(nominal).distance_per_cycle_m, ref.distance_per_cycle_m)

@@ -198,14 +198,17 @@ TEST(RangeHolds, OpenSidesReachTheBounds) {
 Candidate PairWithForce() {
   Candidate c;
   c.effects = {"actuator.deadband", "actuator.force_scale"};
-  for (const auto& [name, lo, hi] : {std::tuple{"effect.actuator_deadband_n", 0.0, 3.0},
-                                     std::tuple{"actuators.force_n", 3.0, 12.0},
-                                     std::tuple{"nuisance.time_offset_s", -0.05, 0.05}}) {
+  for (const auto& [name, lo, hi, nominal, id] :
+       {std::tuple{"effect.actuator_deadband_n", 0.0, 3.0, 0.0, "actuator.deadband"},
+        std::tuple{"actuators.force_n", 3.0, 12.0, 8.8, "actuator.force_scale"},
+        std::tuple{"nuisance.time_offset_s", -0.05, 0.05, 0.0, ""}}) {
     v1::GeneBound g;
     g.set_name(name);
     g.set_lo(lo);
     g.set_hi(hi);
     c.genes.push_back(g);
+    c.mean0.push_back(nominal);
+    c.gene_effect.push_back(id);
   }
   return c;
 }

@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include "absl/strings/str_join.h"
 #include "robots/registry.h"
 
+#include "services/diagnosis/fits.h"
 #include "services/diagnosis/spec.h"
 #include "services/spec/spec_validation.h"
 
@@ -137,6 +139,29 @@ TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOne
                              "; or a descriptor file"),
             std::string::npos)
       << s;
+}
+
+// A robot's own suspects (its descriptor's `suspects:`) are candidates beside the catalog's
+// effects, fitted from the nominal value over the range the descriptor gives.
+TEST(DiagnosisSpec, ARobotsSuspectsAreCandidatesStartingAtTheModel) {
+  v1::DiagnosisSpec d = Spec();
+  d.set_robot("tigrillo");
+  d.clear_candidates();
+  Defaults(&d);
+  ASSERT_TRUE(Validate(d).ok()) << Validate(d);
+  const auto& ids = d.candidates();
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "knee.hind_stiffness"), ids.end());
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "servo.deadband"), ids.end());
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "actuator.lag"), ids.end());
+  EXPECT_EQ(std::find(ids.begin(), ids.end(), "mass.offset"), ids.end());  // no scale.mass
+  const Candidate c = Make(d, {"knee.hind_stiffness"});
+  ASSERT_EQ(c.genes.size(), 2u);  // the suspect's parameter and the time offset
+  EXPECT_EQ(c.genes[0].name(), "knee.hind_stiffness_nm_per_rad");
+  EXPECT_EQ(c.genes[0].lo(), 0.05);
+  EXPECT_EQ(c.mean0[0], 0.2225);
+  EXPECT_EQ(c.gene_effect[0], "knee.hind_stiffness");
+  d.add_candidates("knee.front_stiffness");
+  EXPECT_NE(Validate(d).message().find("or a suspect of tigrillo"), std::string::npos) << Validate(d);
 }
 
 }  // namespace

@@ -82,7 +82,7 @@ TEST_F(GenericCalibrationTest, EveryBuilderEffectChangesTheMotionAndZeroIsNoEffe
     EXPECT_EQ(Motion(off), motion) << e.id << ": 0 must leave the model as it is, bit for bit";
     EXPECT_GT(LargestDifference(Motion(on), motion), 1e-3) << e.id << " changes nothing";
   }
-  EXPECT_EQ(builder_effects, 6);
+  EXPECT_EQ(builder_effects, 8);
   // A tether pulls backwards: the robot travels less.
   ParamValues pulled(TwoBox());
   ASSERT_TRUE(pulled.Set("effect.tether_force_n", 0.2).ok());
@@ -189,7 +189,11 @@ TEST_F(GenericCalibrationTest, BadGenesAndRecordingsAreReasons) {
 TEST_F(GenericCalibrationTest, EffectsApplyWhereTheRobotHasTheirParts) {
   const auto& cat = robots::Robot("caterpillar");
   for (const auto& e : effects::EffectCatalog())
-    if (!e.params.empty()) EXPECT_EQ(effects::WhyNotApplicable(e, cat), "") << e.id;
+    if (!e.params.empty() && e.attaches != "servos")
+      EXPECT_EQ(effects::WhyNotApplicable(e, cat), "") << e.id;
+  EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), cat),
+              HasSubstr("through the generic builder"));
+  EXPECT_EQ(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), robots::Robot("walker")), "");
   EXPECT_EQ(effects::WhyNotApplicable(*effects::FindEffect("tether.constant"), TwoBox()), "");
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("mass.offset"), TwoBox()),
               HasSubstr("twobox has no calibratable scale.mass"));

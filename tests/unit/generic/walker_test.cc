@@ -7,6 +7,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
 #include "robots/registry.h"
@@ -66,6 +67,35 @@ TEST_F(WalkerTest, TheServoFollowsAStepWithItsLagAndSpeedLimit) {
   const double angle = *(*w)->Channel("hip_l.angle");
   EXPECT_LE(angle, 10.5 * 0.05 + 1e-3);
   EXPECT_GT(angle, 0.8 * 10.5 * 0.05);
+}
+
+// The servo effects of the gap finder's catalog (workers/effects/): a further lag in series
+// with the servo's own, and a deadband inside which the servo holds its joint.
+TEST_F(WalkerTest, ServoEffectsLagTheStepAndStopItShortByTheDeadband) {
+  ParamValues v(Walker());
+  ASSERT_TRUE(v.Set("simulation.gravity_m_per_s2", 0).ok());
+  ASSERT_TRUE(v.Set("servo.lag_s", 0).ok());
+  auto step = [&](const ParamValues& p, double target, double seconds) {
+    auto w = GenericWorld::Build(Walker(), p, 0);
+    EXPECT_TRUE(w.ok()) << w.status();
+    Hold(**w, 0, 0.01);
+    Hold(**w, target, seconds);
+    return *(*w)->Channel("hip_l.angle");
+  };
+  // effect.actuator_lag_s = 0.05: after one time constant (plus the servo's 5 ms) the angle
+  // is at 1 - 1/e of a small step.
+  ParamValues lagged = v;
+  ASSERT_TRUE(lagged.Set("effect.actuator_lag_s", 0.05).ok());
+  EXPECT_NEAR(step(lagged, 0.1, 0.055), 0.1 * (1 - std::exp(-1.0)), 0.012);
+  EXPECT_GT(step(v, 0.1, 0.055), 0.098);  // without it, there already
+  // effect.servo_deadband_rad = 0.05: the servo stops once within 0.05 rad of its command,
+  // and a command inside the band does not move it at all.
+  ParamValues band = v;
+  ASSERT_TRUE(band.Set("effect.servo_deadband_rad", 0.05).ok());
+  EXPECT_NEAR(step(band, 0.3, 0.3), 0.25, 0.006);
+  EXPECT_NEAR(step(band, 0.04, 0.3), 0.0, 1e-3);
+  EXPECT_THAT(std::string(band.Set("effect.servo_deadband_rad", 0.5).message()),
+              ::testing::HasSubstr("outside [0, 0.2]"));
 }
 
 // A horizontal arm on a hinge out from a heavy base, its spring k (0: none) and damper c,

@@ -137,6 +137,43 @@ TEST(Descriptor, NamesOfMissingParametersAreRefused) {
               HasSubstr("relations[0]: 'body.masss' is not a parameter"));
 }
 
+// A robot's own suspects: calibratable parameters or scales with a range that holds the
+// model's value; every mistake names its line and field.
+TEST(Descriptor, SuspectsFitCalibratableNamesInRangesHoldingTheModel) {
+  const std::string suspects = R"(suspects:
+  hinge.too_stiff:
+    name: Hinge stiffness
+    meaning: the hinge was measured on another part
+    where: every swing off in amplitude
+    experiment: a static deflection test
+    fit: {hinge.stiffness_nm_per_rad: [0.1, 2], scale.stiffness: [0.5, 2]}
+relations:)";
+  auto d = ParseDescriptor(Edit("relations:", suspects), "twobox.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  ASSERT_EQ(d->suspects.size(), 1u);
+  const Suspect& s = d->suspects[0];
+  EXPECT_EQ(s.id, "hinge.too_stiff");
+  ASSERT_EQ(s.fit.size(), 2u);
+  EXPECT_EQ(s.fit[0].nominal, 0.5);
+  EXPECT_EQ(s.fit[0].unit, "N m/rad");
+  EXPECT_EQ(s.fit[1].nominal, 1);
+  auto error = [&](const std::string& from, const std::string& to) {
+    std::string t = Edit("relations:", suspects);
+    t.replace(t.find(from), from.size(), to);
+    return ErrorOf(t);
+  };
+  EXPECT_THAT(error("hinge.stiffness_nm_per_rad: [0.1, 2]", "body.length_m: [0.02, 0.1]"),
+              AllOf(HasSubstr("twobox.yaml:18:11:"), HasSubstr("suspects.hinge.too_stiff.fit.body.length_m"),
+                    HasSubstr("not a calibratable parameter")));
+  EXPECT_THAT(error("[0.1, 2]", "[0.1, 20]"), HasSubstr("must lie inside hinge.stiffness_nm_per_rad's range [0, 10]"));
+  EXPECT_THAT(error("[0.1, 2]", "[0.6, 2]"), HasSubstr("must hold the model's own value 0.5"));
+  EXPECT_THAT(error("[0.5, 2]}", "[0, 2]}"), HasSubstr("a scale's range must be positive"));
+  EXPECT_THAT(error("    where: every swing off in amplitude\n", ""),
+              HasSubstr("suspects.hinge.too_stiff.where"));
+  EXPECT_THAT(error("    fit: {hinge.stiffness_nm_per_rad: [0.1, 2], scale.stiffness: [0.5, 2]}\n", ""),
+              HasSubstr("NAME: [lo, hi]"));
+}
+
 TEST(Descriptor, ARelationThatFailsSaysWhy) {
   EXPECT_THAT(ErrorOf(Edit("{value: 0.05, range: [0.01, 1]", "{value: 0.02, range: [0.01, 1]")),
               AllOf(HasSubstr("twobox.yaml:13:"), HasSubstr("fails"), HasSubstr("a test relation")));

@@ -35,11 +35,17 @@ void GenericWorld::ApplyServos(const std::vector<double>& commands) {
   for (size_t i = 0; i < servos_.size(); ++i) {
     Servo& s = servos_[i];
     const double target = i < commands.size() ? commands[i] : 0.0;
-    // Exact for a command held over the step: c <- t + (c - t) exp(-h / lag).
-    s.command = s.started ? target + (s.command - target) * s.lag_keep : target;
+    // Exact for a command held over the step: c <- t + (c - t) exp(-h / lag). The effect's
+    // lag (effect.actuator_lag_s) comes first, then the servo's own.
+    s.extra = s.started ? target + (s.extra - target) * s.extra_keep : target;
+    s.command = s.started ? s.extra + (s.command - s.extra) * s.lag_keep : s.extra;
     s.started = true;
     const double angle = dJointGetHingeAngle(joints_[s.joint]);
-    const double speed = std::clamp(s.gain * (s.command - angle), -s.max_speed, s.max_speed);
+    // A deadband (effect.servo_deadband_rad): inside it the servo does not drive; its
+    // geared motor holds (speed 0 up to max_torque).
+    const double error = s.command - angle;
+    const double drive = std::fabs(error) <= servo_deadband_ ? 0.0 : error;
+    const double speed = std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
     dJointSetHingeParam(joints_[s.joint], dParamVel, speed);
   }
 }

@@ -137,6 +137,7 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->drag_ = v.Effect("effect.drag_n_s_per_m");
   w->friction_forward_ = v.Effect("effect.friction_forward");
   w->friction_backward_ = v.Effect("effect.friction_backward");
+  w->servo_deadband_ = v.Effect("effect.servo_deadband_rad");
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;
@@ -224,6 +225,8 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
           a.mark.ToString(), ": servo ", a.name,
           " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
     s.lag_keep = lag > 0 ? std::exp(-h_ / lag) : 0;
+    const double extra = v.Effect("effect.actuator_lag_s");
+    s.extra_keep = extra > 0 ? std::exp(-h_ / extra) : 0;
     dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
     // The joint's reaction, read after each step for the torque the servo gave.
     dJointSetFeedback(joints_[s.joint], &feedback_.emplace_back());

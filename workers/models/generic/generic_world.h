@@ -104,6 +104,9 @@ class GenericWorld {
   struct Servo {
     int joint = 0;
     double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0;
+    // effect.actuator_lag_s: a further lag in series, before the servo's own (0: none).
+    double extra_keep = 0;
+    double extra = 0;    // the command after the effect's lag (rad)
     double command = 0;  // the lagged command (rad)
     bool started = false;
   };
@@ -137,6 +140,7 @@ class GenericWorld {
   // Effects (0: off).
   double tether_force_ = 0, tether_stiffness_ = 0, drag_ = 0;
   double friction_forward_ = 0, friction_backward_ = 0;
+  double servo_deadband_ = 0;  // effect.servo_deadband_rad
   double max_speed_ = 0, max_excursion_ = 0;
   int64_t steps_ = 0;
   int ground_contacts_ = 0;

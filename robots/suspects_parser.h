@@ -1,0 +1,15 @@
+#pragma once
+// The "suspects" section of a descriptor: model errors the robot's authors suspect (a
+// paper's own list of what its simulation may get wrong), each a set of calibratable
+// parameters or scales with the range a fit may search (docs/robots.md, "Suspects").
+#include "absl/status/status.h"
+#include "robots/descriptor.h"
+#include "robots/yaml_fields.h"
+
+namespace gaitforge::robots {
+
+// Appends the suspects under `node` to d.suspects. Needs d's parameters and scales: every
+// fitted name must be calibratable, its range inside the parameter's and holding its value.
+absl::Status ParseSuspects(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d);
+
+}  // namespace gaitforge::robots
