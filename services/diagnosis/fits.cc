@@ -38,8 +38,11 @@ absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1:
   return robots::ResolveRobot(d.robot(), d.robot_descriptor());
 }
 
-std::string RobotFile(const v1::DiagnosisSpec& d) {
-  if (d.robot_descriptor().empty()) return "";
+std::string RobotArg(const v1::DiagnosisSpec& d) {
+  if (d.robot_descriptor().empty()) {
+    const robots::RobotDescriptor* builtin = robots::FindRobot(d.robot());
+    return builtin && builtin->model == "generic" ? d.robot() : "";
+  }
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("gaitforge-robot-" +
                              recording::ContentHash(d.robot_descriptor(), "").substr(0, 16) +
@@ -150,7 +153,7 @@ std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string
   std::vector<std::string> argv = {core::SiblingBinary("gaitforge-sim"), "calibration-eval",
                                    "--recordings", absl::StrJoin(files, ","), "--options",
                                    "error=" + d.error()};
-  if (const std::string robot = RobotFile(d); !robot.empty())
+  if (const std::string robot = RobotArg(d); !robot.empty())
     argv.insert(argv.end(), {"--robot", robot});
   std::string set = SetArg(c);
   if (!extra_set.empty()) set += (set.empty() ? "" : ",") + extra_set;

@@ -38,9 +38,10 @@ std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d);
 // d's robot: a built-in robot, or the descriptor the spec carries.
 absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d);
 
-// A file holding d's descriptor, for gaitforge-sim --robot (in the temporary directory,
-// named by the content's hash); "" for a built-in robot.
-std::string RobotFile(const v1::DiagnosisSpec& d);
+// gaitforge-sim's --robot for d's robot: a file holding the descriptor the spec carries (in
+// the temporary directory, named by the content's hash), a built-in generic robot's name,
+// or "" for a built-in robot with a model of its own (the caterpillar: the default).
+std::string RobotArg(const v1::DiagnosisSpec& d);
 
 // The candidate with these effects: its genes (base parameters, effect parameters, time
 // offset), start point and parameter count.

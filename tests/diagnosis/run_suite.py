@@ -38,7 +38,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def spec_text(case_dir, c, screening, full, base="", weighting=""):
     """The diagnosis spec of a case (its case.json as `c`). It names the files by absolute
     path; the case name stays out of it."""
-    lines = ["name: case", "seed: 1", "robot: caterpillar",
+    lines = ["name: case", "seed: 1", f"robot: {c.get('robot', 'caterpillar')}",
              "training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]",
              "held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]",
              f"screening_evaluations: {screening}", f"full_evaluations: {full}"]
@@ -251,7 +251,7 @@ def main():
           f"median magnitude error {summary['median_magnitude_relative_error']}, "
           f"median held-out reduction {summary['median_held_out_reduction']}, "
           f"truth inside the reported range {sum(covered)} of {len(covered)}, {total:.0f} s")
-    located = [s for s in scores if s["beyond_spread"] is not None]
+    located = [s for s in scores if s.get("beyond_spread") is not None]
     if located:
         print("located beyond the noise and the numeric spread: "
               f"{sum(s['beyond_spread'] for s in located if s['truth'] != 'none')} of "
@@ -288,7 +288,7 @@ def main():
     # change the travel show only in the finer calibration error.)
     # Unknown counts as wrong here: a null must be shown to be within the spread.
     mislocated = [s["case"] for s in scores
-                  if s["truth"] == "none" and s["beyond_spread"] is not False]
+                  if s["truth"] == "none" and s.get("beyond_spread") is not False]
     if mislocated and a.check and not a.rescore:
         print("located beyond the numeric spread on a null, or not against it: "
               + ", ".join(mislocated), file=sys.stderr)
