@@ -8,6 +8,8 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev libeigen3-dev libode-dev
   libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev libcivetweb-dev openssl
+  # An independent build of the generic robots (workers/models/mujoco, issue 27).
+  libmujoco-dev
   iproute2 nftables
   python3 python3-matplotlib python3-numpy
   python3-grpcio python3-protobuf python3-yaml python3-pandas

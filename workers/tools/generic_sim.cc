@@ -13,6 +13,7 @@
 #include "services/recording/recording.h"
 #include "workers/models/generic/generic_calibration.h"
 #include "workers/models/generic/generic_gait.h"
+#include "workers/models/mujoco/mujoco_world.h"
 #include "workers/objectives/recording_comparison.h"
 #include "workers/sim/ode_runtime.h"
 #include "workers/tools/sim_tool.h"
@@ -59,12 +60,17 @@ absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>&
                                                    genes.size()));
   auto values = Values(run);
   if (!values.ok()) return values.status();
+  if (run.engine != "ode" && run.engine != "mujoco")
+    return absl::InvalidArgumentError("--engine " + run.engine + ": one of ode, mujoco");
   sim::InitThread();
   const auto sim = generic::SimulateChannels(d, *values, genes, run.settle_cycles + run.cycles,
-                                             run.rate_hz);
+                                             run.rate_hz, 0,
+                                             run.engine == "mujoco" ? mujoco::Engine() : nullptr);
   if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
   return WriteChannels(sim.trajectory, out, d.name, run.robot_path, genes,
-                       "simulated by gaitforge-sim", run.overrides);
+                       run.engine == "mujoco" ? "simulated by gaitforge-sim, MuJoCo build"
+                                              : "simulated by gaitforge-sim",
+                       run.overrides);
 }
 
 absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,

@@ -19,6 +19,9 @@ struct GenericRun {
   std::vector<std::pair<std::string, double>> overrides;  // --set, in order
   double rate_hz = 100;
   int settle_cycles = 2, cycles = 10;
+  // trajectory: the engine that builds the robot ("ode", the studies' build, or "mujoco",
+  // an independent build: workers/models/mujoco/).
+  std::string engine = "ode";
 };
 
 // The robot's channels over settle + measured cycles of `genes` from rest, written as a

@@ -44,7 +44,8 @@ int RunGenericCommand(const std::string& cmd, const std::string& robot_arg,
                       const std::string& genes_text, const std::string& out,
                       const std::string& set_text, const std::string& recordings,
                       const std::string& options_text, const std::string& params_text,
-                      const std::string& out_dir, double rate, int cycles, int settle) {
+                      const std::string& out_dir, double rate, int cycles, int settle,
+                      const std::string& engine) {
   auto fail = [](const absl::Status& s, int code) {
     std::cerr << "gaitforge-sim: " << s.message() << "\n";
     return code;
@@ -68,6 +69,7 @@ int RunGenericCommand(const std::string& cmd, const std::string& robot_arg,
   run.rate_hz = rate;
   run.cycles = cycles;
   run.settle_cycles = settle;
+  run.engine = engine;
   const double h = run.robot->Value("simulation.timestep_s");
   const double steps = 1.0 / (rate * h);
   if (!(rate > 0) || std::abs(steps - std::round(steps)) > 1e-9 || std::round(steps) < 1)
@@ -121,6 +123,10 @@ int main(int argc, char** argv) {
   flags.Add("robot", &robot_arg,
             "a robot on the generic builder: a built-in's name or a descriptor file "
             "(trajectory, calibration-eval; docs/robots.md)");
+  std::string engine = "ode";
+  flags.Add("engine", &engine,
+            "with --robot, trajectory: ode (the studies' build) or mujoco (an independent build "
+            "of the same descriptor, workers/models/mujoco/)");
   flags.Add("genes", &genes_text, "13 numbers a_T1..a_B3 d_T1..d_B3 T, comma separated");
   flags.Add("out", &out, "trajectory: CSV file to write");
   flags.Add("rate", &rate, "trajectory: marker sampling rate, Hz (1..10000)");
@@ -153,7 +159,8 @@ int main(int argc, char** argv) {
   const std::string cmd = flags.positional()[0];
   if (!robot_arg.empty()) {
     return RunGenericCommand(cmd, robot_arg, genes_text, out, set_text, recordings_text,
-                             options_text, objective_params_text, out_dir, rate, cycles, settle);
+                             options_text, objective_params_text, out_dir, rate, cycles, settle,
+                             engine);
   }
   if (cycles < 1 || cycles > 200 || settle < 0 || settle > 50 || !(rate >= 1 && rate <= 10000) ||
       threads < 1 || threads > 256) {

@@ -11,6 +11,7 @@
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
 #include "robots/registry.h"
+#include "tests/support/robot_text.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/models/generic/generic_objective.h"
 #include "workers/sim/ode_runtime.h"
@@ -107,14 +108,7 @@ summary: an arm on a sprung hinge
 model: generic
 parameters:
   k: {value: )", k, R"(, range: [0, 10], unit: N m/rad}
-  simulation:
-    timestep_s: {value: 0.001, range: [1.0e-4, 0.002], unit: s}
-    gravity_m_per_s2: {value: 9.81, range: [0, 100], unit: m/s^2}
-    settle_cycles: {value: 0, range: [0, 5], unit: cycles, integer: true}
-    measured_cycles: {value: 1, range: [1, 5], unit: cycles, integer: true}
-    max_speed_m_per_s: {value: 10, range: [0.1, 100], unit: m/s}
-    max_excursion_m: {value: 1, range: [0.01, 100], unit: m}
-  ground:
+)", testing::kSimulationParameters, R"(  ground:
     mu: {value: 1, range: [0, 10]}
 bodies:
   - {name: base, shape: box, size: [0.1, 0.1, 0.1], mass: 5, position: [0, 0, 0.05]}

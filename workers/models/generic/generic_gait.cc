@@ -39,19 +39,27 @@ namespace {
 // once after the last; false (with the reason and time in r) when it diverges.
 // The controller runs `time_offset_s` ahead of the world (a start phase).
 bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vector<double>& genes,
-         double timestep_s, double time_offset_s, const std::function<int64_t(const GenericWorld&)>& steps,
-         const std::function<void(const GenericWorld&, int64_t)>& each, std::string* reason,
+         double timestep_s, double time_offset_s, const WorldBuilder& engine,
+         const std::function<int64_t(const RobotWorld&)>& steps,
+         const std::function<void(const RobotWorld&, int64_t)>& each, std::string* reason,
          double* simulated_s) {
   if (auto first = Commands(d, genes, 0); !first.ok()) {
     *reason = std::string(first.status().message());
     return false;
   }
-  auto world = GenericWorld::Build(d, v, timestep_s);
+  absl::StatusOr<std::unique_ptr<RobotWorld>> world;
+  if (engine) {
+    world = engine(d, v, timestep_s);
+  } else if (auto ode = GenericWorld::Build(d, v, timestep_s); ode.ok()) {
+    world = std::unique_ptr<RobotWorld>(std::move(*ode));
+  } else {
+    world = ode.status();
+  }
   if (!world.ok()) {
     *reason = std::string(world.status().message());
     return false;
   }
-  GenericWorld& w = **world;
+  RobotWorld& w = **world;
   const double delay = v.Effect("effect.actuator_delay_s");
   const int64_t total = steps(w);
   robots::ControllerRun controller(d.controller, genes);
@@ -74,7 +82,7 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
 
 calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& v,
                                      const std::vector<double>& genes, int cycles, double rate_hz,
-                                     double timestep_s) {
+                                     double timestep_s, const WorldBuilder& engine) {
   calibration::SimRun run;
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
   const double period = genes.size() == d.controller.genes.size() ? kind->period_s(genes) : 1;
@@ -82,16 +90,16 @@ calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const Par
   tr.channels = d.Channels();
   tr.columns.resize(tr.channels.size());
   int64_t every = 1;
-  const auto steps = [&](const GenericWorld& w) {
+  const auto steps = [&](const RobotWorld& w) {
     every = std::max<int64_t>(1, std::llround(1.0 / (rate_hz * w.timestep())));
     return static_cast<int64_t>(std::llround(cycles * period / w.timestep()));
   };
-  const auto sample = [&](const GenericWorld& w, int64_t i) {
+  const auto sample = [&](const RobotWorld& w, int64_t i) {
     if (i % every != 0) return;
     tr.t.push_back(w.time());
     for (size_t c = 0; c < tr.channels.size(); ++c) tr.columns[c].push_back(*w.Channel(tr.channels[c]));
   };
-  run.valid = Run(d, v, genes, timestep_s, 0, steps, sample, &run.reason, &run.simulated_s);
+  run.valid = Run(d, v, genes, timestep_s, 0, engine, steps, sample, &run.reason, &run.simulated_s);
   return run;
 }
 
@@ -104,13 +112,13 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
   int64_t settle_steps = 0, total = 0;
   double start_x = 0, end_x = 0, start_energy = 0;
-  const auto steps = [&](const GenericWorld& w) {
+  const auto steps = [&](const RobotWorld& w) {
     if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
     settle_steps = std::llround(settle * period / w.timestep());
     return total = settle_steps + std::llround(measured * period / w.timestep());
   };
-  const auto each = [&](const GenericWorld& w, int64_t i) {
+  const auto each = [&](const RobotWorld& w, int64_t i) {
     if (i == settle_steps) {
       start_x = w.CentreOfMass()[0];
       start_energy = w.servo_energy();
@@ -123,7 +131,8 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   };
   const double offset =
       genes.size() == d.controller.genes.size() ? o.start_phase * kind->period_s(genes) : 0;
-  if (!Run(d, v, genes, o.timestep_s, offset, steps, each, &r.reason, &r.simulated_s)) return r;
+  if (!Run(d, v, genes, o.timestep_s, offset, o.engine, steps, each, &r.reason, &r.simulated_s))
+    return r;
   r.valid = true;
   r.travel_m = end_x - start_x;
   r.distance_per_cycle_m = r.travel_m / measured;

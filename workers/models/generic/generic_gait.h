@@ -21,6 +21,8 @@ struct GaitOptions {
   // > 0: measure a fixed time instead of cycles (paper 001): the fitness is the forward
   // travel of the centre of mass over duration_s from rest, start-up included (m).
   double duration_s = 0;
+  // The engine that builds the world; empty: the ODE builder (GenericWorld).
+  WorldBuilder engine = {};
 };
 
 struct GaitResult {
@@ -49,7 +51,7 @@ std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
 // timesteps (timestep_s <= 0: the robot's simulation.timestep_s) per sample.
 calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& values,
                                      const std::vector<double>& genes, int cycles, double rate_hz,
-                                     double timestep_s = 0);
+                                     double timestep_s = 0, const WorldBuilder& engine = {});
 
 // Never throws for a diverging model: that is valid = false with the reason.
 GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& values,

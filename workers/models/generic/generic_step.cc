@@ -19,14 +19,14 @@ void GenericWorld::ApplyJointTorques() {
 }
 
 void GenericWorld::ApplyEffects() {
-  if (tether_force_ > 0 || tether_stiffness_ > 0) {
+  if (fx_.tether_force > 0 || fx_.tether_stiffness > 0) {
     const double travel = std::max(0.0, dBodyGetPosition(bodies_[0])[0] - start_[0][0]);
-    dBodyAddForce(bodies_[0], -(tether_force_ + tether_stiffness_ * travel), 0, 0);
+    dBodyAddForce(bodies_[0], -(fx_.tether_force + fx_.tether_stiffness * travel), 0, 0);
   }
-  if (drag_ > 0) {
+  if (fx_.drag > 0) {
     for (dBodyID b : bodies_) {
       const dReal* v = dBodyGetLinearVel(b);
-      dBodyAddForce(b, -drag_ * v[0], -drag_ * v[1], -drag_ * v[2]);
+      dBodyAddForce(b, -fx_.drag * v[0], -fx_.drag * v[1], -fx_.drag * v[2]);
     }
   }
 }
@@ -44,7 +44,7 @@ void GenericWorld::ApplyServos(const std::vector<double>& commands) {
     // A deadband (effect.servo_deadband_rad): inside it the servo does not drive; its
     // geared motor holds (speed 0 up to max_torque).
     const double error = s.command - angle;
-    const double drive = std::fabs(error) <= servo_deadband_ ? 0.0 : error;
+    const double drive = std::fabs(error) <= fx_.servo_deadband ? 0.0 : error;
     const double speed = std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
     dJointSetHingeParam(joints_[s.joint], dParamVel, speed);
   }
@@ -94,7 +94,7 @@ void GenericWorld::AddGroundContacts() {
       // no friction torque about z from a box's footprint (docs/robots.md).
       // A direction-dependent coefficient replaces the ground's own when it is set (> 0).
       const double vx = dBodyGetLinearVel(bodies_[i])[0];
-      const double directed = vx >= 0 ? friction_forward_ : friction_backward_;
+      const double directed = vx >= 0 ? fx_.friction_forward : fx_.friction_backward;
       const double mu = directed > 0 ? directed : body_friction_[i];
       if (k != deepest) {
         c.surface.mu = 0;

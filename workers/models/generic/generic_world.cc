@@ -83,13 +83,23 @@ double ParamValues::operator()(const std::string& name) const {
   throw std::out_of_range(absl::StrCat(d_->name, " has no parameter ", name));
 }
 
+BuilderEffects::BuilderEffects(const ParamValues& v)
+    : tether_force(v.Effect("effect.tether_force_n")),
+      tether_stiffness(v.Effect("effect.tether_stiffness_n_per_m")),
+      drag(v.Effect("effect.drag_n_s_per_m")),
+      friction_forward(v.Effect("effect.friction_forward")),
+      friction_backward(v.Effect("effect.friction_backward")),
+      slope(v.Effect("effect.slope_rad")),
+      actuator_lag(v.Effect("effect.actuator_lag_s")),
+      servo_deadband(v.Effect("effect.servo_deadband_rad")) {}
+
 double ParamValues::Effect(const std::string& name) const {
   auto it = effects_.find(name);
   return it == effects_.end() ? 0.0 : it->second;
 }
 
-GenericWorld::GenericWorld(const robots::RobotDescriptor& d, double timestep_s)
-    : d_(d), h_(timestep_s) {}
+GenericWorld::GenericWorld(const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s)
+    : d_(d), h_(timestep_s), fx_(v) {}
 
 absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
     const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s) {
@@ -102,9 +112,9 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
           absl::StrCat(d.source, ": a generic robot needs the parameter ", name));
   if (!d.ground) return absl::InvalidArgumentError(d.source + ": a generic robot needs ground");
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
-  std::unique_ptr<GenericWorld> w(new GenericWorld(d, h));
+  std::unique_ptr<GenericWorld> w(new GenericWorld(d, v, h));
   // A ground slope s (effect.slope_rad, + uphill along +x) tilts gravity about y.
-  const double g = v("simulation.gravity_m_per_s2"), slope = v.Effect("effect.slope_rad");
+  const double g = v("simulation.gravity_m_per_s2"), slope = w->fx_.slope;
   dWorldSetGravity(w->world_.world(), -g * std::sin(slope), 0, -g * std::cos(slope));
   // Rigid rows: drift correction and softness, the robot's simulation.solver_erp and
   // simulation.solver_cfm when it gives them (a small positive CFM keeps the solver's
@@ -132,12 +142,6 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->load_.assign(d.bodies.size(), 0.0);
   w->contact_feedback_.resize(d.bodies.size() * kMaxContacts);
   w->contact_count_.assign(d.bodies.size(), 0);
-  w->tether_force_ = v.Effect("effect.tether_force_n");
-  w->tether_stiffness_ = v.Effect("effect.tether_stiffness_n_per_m");
-  w->drag_ = v.Effect("effect.drag_n_s_per_m");
-  w->friction_forward_ = v.Effect("effect.friction_forward");
-  w->friction_backward_ = v.Effect("effect.friction_backward");
-  w->servo_deadband_ = v.Effect("effect.servo_deadband_rad");
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;
@@ -225,8 +229,7 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
           a.mark.ToString(), ": servo ", a.name,
           " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
     s.lag_keep = lag > 0 ? std::exp(-h_ / lag) : 0;
-    const double extra = v.Effect("effect.actuator_lag_s");
-    s.extra_keep = extra > 0 ? std::exp(-h_ / extra) : 0;
+    s.extra_keep = fx_.actuator_lag > 0 ? std::exp(-h_ / fx_.actuator_lag) : 0;
     dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
     // The joint's reaction, read after each step for the torque the servo gave.
     dJointSetFeedback(joints_[s.joint], &feedback_.emplace_back());

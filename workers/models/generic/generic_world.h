@@ -25,6 +25,7 @@
 #include "absl/status/statusor.h"
 #include "robots/descriptor.h"
 #include "workers/sim/sim_outcome.h"
+#include "workers/models/generic/robot_world.h"
 #include "workers/sim/world.h"
 
 namespace gaitforge::generic {
@@ -51,7 +52,19 @@ class ParamValues {
   std::map<std::string, double> effects_;
 };
 
-class GenericWorld {
+// The builder effects' values (workers/effects: each 0, the effect absent, unless set), read
+// once per build by every engine that builds a generic robot.
+struct BuilderEffects {
+  explicit BuilderEffects(const ParamValues& v);
+  double tether_force = 0, tether_stiffness = 0;    // N, N/m on the first body
+  double drag = 0;                                  // N s/m on every body
+  double friction_forward = 0, friction_backward = 0;
+  double slope = 0;                                 // rad, + uphill along +x
+  double actuator_lag = 0;                          // s, before each servo's own
+  double servo_deadband = 0;                        // rad
+};
+
+class GenericWorld : public RobotWorld {
  public:
   // Builds the robot at rest; InvalidArgument when its model is not "generic", it has no
   // bodies, or a value makes no physical sense (a non-positive size or mass).
@@ -63,30 +76,30 @@ class GenericWorld {
 
   // One step with `commands[i]` the angle (rad) commanded to actuator i (descriptor order).
   // !ok once the state diverged (NaN, too fast, too far, ODE error): do not step again.
-  sim::SimOutcome Step(const std::vector<double>& commands);
+  sim::SimOutcome Step(const std::vector<double>& commands) override;
 
-  double time() const { return steps_ * h_; }
-  double timestep() const { return h_; }
+  double time() const override { return steps_ * h_; }
+  double timestep() const override { return h_; }
   int body_count() const { return static_cast<int>(bodies_.size()); }
   // The mean of the bodies' centres, mass-weighted (m, world frame).
-  std::array<double, 3> CentreOfMass() const;
+  std::array<double, 3> CentreOfMass() const override;
   double JointAngle(int joint) const;
   // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
-  absl::StatusOr<double> Channel(const std::string& name) const;
+  absl::StatusOr<double> Channel(const std::string& name) const override;
   int ground_contacts() const { return ground_contacts_; }
   // The largest tilt of the first body (its roll or pitch against the world's level, rad)
   // over the steps so far.
-  double max_tilt() const { return max_tilt_; }
+  double max_tilt() const override { return max_tilt_; }
   // Of the servo-steps so far, the fraction in which a servo gave at least 99% of its
   // max_torque (it was stalled by its torque limit); 0 without servos.
-  double torque_limited_fraction() const;
+  double torque_limited_fraction() const override;
   // The servos' positive mechanical work so far (J): the sum over steps and servos of
   // max(0, torque * joint rate) * h (a servo braking a joint stores nothing).
-  double servo_energy() const { return servo_energy_; }
-  double total_mass() const;
+  double servo_energy() const override { return servo_energy_; }
+  double total_mass() const override;
 
  private:
-  GenericWorld(const robots::RobotDescriptor& d, double timestep_s);
+  GenericWorld(const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s);
   absl::Status BuildBodies(const ParamValues& v);
   absl::Status BuildJoints(const ParamValues& v);
   absl::Status BuildActuators(const ParamValues& v);
@@ -137,10 +150,7 @@ class GenericWorld {
   std::vector<double> load_;
   std::vector<dJointFeedback> contact_feedback_;
   std::vector<int> contact_count_;
-  // Effects (0: off).
-  double tether_force_ = 0, tether_stiffness_ = 0, drag_ = 0;
-  double friction_forward_ = 0, friction_backward_ = 0;
-  double servo_deadband_ = 0;  // effect.servo_deadband_rad
+  BuilderEffects fx_;
   double max_speed_ = 0, max_excursion_ = 0;
   int64_t steps_ = 0;
   int ground_contacts_ = 0;

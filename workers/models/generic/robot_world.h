@@ -1,0 +1,46 @@
+#pragma once
+// A robot on the generic builder as a physics engine steps it: what a gait run, a
+// recording's channels and the gait metrics read, whichever engine built the world. The ODE
+// builder (generic_world.h) is the one studies use; workers/models/mujoco/ builds the same
+// descriptor in MuJoCo, an independent build for comparisons (bench/mujoco_compare.cc) and
+// reference recordings.
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "robots/descriptor.h"
+#include "workers/sim/sim_outcome.h"
+
+namespace gaitforge::generic {
+
+class ParamValues;
+
+class RobotWorld {
+ public:
+  virtual ~RobotWorld() = default;
+  // One step with `commands[i]` the angle (rad) commanded to actuator i (descriptor order).
+  // !ok once the state diverged: do not step again.
+  virtual sim::SimOutcome Step(const std::vector<double>& commands) = 0;
+  virtual double time() const = 0;
+  virtual double timestep() const = 0;
+  // The mass-weighted mean of the bodies' centres (m, world frame).
+  virtual std::array<double, 3> CentreOfMass() const = 0;
+  // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
+  virtual absl::StatusOr<double> Channel(const std::string& name) const = 0;
+  // The largest tilt of the first body (roll or pitch, rad) over the steps so far.
+  virtual double max_tilt() const = 0;
+  // Of the servo-steps so far, the fraction at >= 99% of the servo's max_torque.
+  virtual double torque_limited_fraction() const = 0;
+  // The servos' positive mechanical work so far (J).
+  virtual double servo_energy() const = 0;
+  virtual double total_mass() const = 0;
+};
+
+// Builds descriptor d with these values at rest (timestep_s <= 0: the robot's own).
+using WorldBuilder = std::function<absl::StatusOr<std::unique_ptr<RobotWorld>>(
+    const robots::RobotDescriptor& d, const ParamValues& values, double timestep_s)>;
+
+}  // namespace gaitforge::generic
