@@ -20,7 +20,12 @@ Each effect comes in three cases that differ in their gaits (sets 1, 2, 3: diffe
 frequencies, strokes and phase lags) and noise, so that "the right name on at least 2 of
 3 cases" is a measurement; two nulls (nothing concealed, sets 1 and 2) per robot.
 
-Writes (default --out tests/diagnosis/robots/NAME):
+--engine mujoco makes the recordings with the robot's MuJoCo build instead (docs/robots.md,
+"An independent build"; at 0.25 ms, REF_MUJOCO): a structurally different simulator of the
+same robot, with contacts, friction and servos of its own, as a real robot would differ.
+It has no direction-dependent friction, so those cases are left out.
+
+Writes (default --out tests/diagnosis/robots/NAME, with --engine mujoco NAME-mujoco):
   cases/<case>/case.json, train/gait-a.csv, train/gait-b.csv, held_out/gait-c.csv (+ .json)
   answers.sealed.json   the concealed effect per case; read only after diagnosing
 and prints each case's clean travel against the null reference and against the model.
@@ -45,6 +50,7 @@ from make_cases import read_csv  # noqa: E402  (the same CSV reader as the cater
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SIM = os.path.join(ROOT, "build", "bin", "gaitforge-sim")
 REF = "simulation.timestep_s=0.00025,ground.contact_cfm=2e-5"
+REF_MUJOCO = "simulation.timestep_s=0.00025"
 ANGLE_NOISE_RAD, MARKER_NOISE_M = 0.003, 3e-4
 ANGLE_OFFSET_RAD, MARKER_OFFSET_M = 0.01, 4e-3
 TIME_SHIFT_S, DROP_FRACTION = 0.02, 0.03
@@ -93,8 +99,9 @@ ROBOTS = {
 }
 
 
-def simulate(sim, robot, spec, genes, set_text, out_csv):
-    cmd = [sim, "trajectory", "--robot", robot, "--genes", genes, "--settle", str(spec["settle"]),
+def simulate(sim, robot, spec, genes, set_text, out_csv, engine="ode"):
+    cmd = [sim, "trajectory", "--robot", robot, "--engine", engine, "--genes", genes,
+           "--settle", str(spec["settle"]),
            "--cycles", str(spec["cycles"]), "--rate", str(spec["rate"]), "--threads", "1",
            "--out", out_csv] + (["--set", set_text] if set_text else [])
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -156,23 +163,29 @@ def main():
     ap.add_argument("--robot", required=True, choices=sorted(ROBOTS))
     ap.add_argument("--out", default="", help="default: tests/diagnosis/robots/ROBOT")
     ap.add_argument("--sim", default=SIM, help="gaitforge-sim binary (default: build/bin)")
+    ap.add_argument("--engine", default="ode", choices=["ode", "mujoco"],
+                    help="the reference's engine (default ode: the descriptor on finer numerics)")
     args = ap.parse_args()
     if not os.access(args.sim, os.X_OK):
         sys.exit(f"make_robot_cases: no gaitforge-sim at {args.sim}; build first")
     spec = ROBOTS[args.robot]
-    out_dir = args.out or os.path.join(ROOT, "tests", "diagnosis", "robots", args.robot)
+    suffix = "" if args.engine == "ode" else "-" + args.engine
+    out_dir = args.out or os.path.join(ROOT, "tests", "diagnosis", "robots", args.robot + suffix)
+    ref = REF if args.engine == "ode" else REF_MUJOCO
     answers, rows = {}, []
     with tempfile.TemporaryDirectory() as tmp:
         for case, truth, overrides, gait_set, seed in cases_of(spec):
+            if args.engine == "mujoco" and any(k.startswith("effect.friction_") for k in overrides):
+                continue
             case_dir = os.path.join(out_dir, "cases", case)
             files = {"train": [], "held_out": []}
             for gi, (g, genes) in enumerate(sorted(spec["sets"][gait_set].items())):
                 split = "held_out" if g == "c" else "train"
                 os.makedirs(os.path.join(case_dir, split), exist_ok=True)
                 raw, null, model = (os.path.join(tmp, f"{case}-{g}-{k}.csv") for k in ("r", "n", "m"))
-                sets = [x for x in (REF, overrides_text(overrides)) if x]
-                simulate(args.sim, args.robot, spec, genes, ",".join(sets), raw)
-                simulate(args.sim, args.robot, spec, genes, REF, null)
+                sets = [x for x in (ref, overrides_text(overrides)) if x]
+                simulate(args.sim, args.robot, spec, genes, ",".join(sets), raw, args.engine)
+                simulate(args.sim, args.robot, spec, genes, ref, null, args.engine)
                 simulate(args.sim, args.robot, spec, genes, "", model)
                 rel = f"{split}/gait-{g}.csv"
                 disguise(raw, os.path.join(case_dir, rel), seed * 10 + gi)
@@ -180,11 +193,11 @@ def main():
                 rows.append((case, g, travel(raw), travel(null), travel(model)))
             with open(os.path.join(case_dir, "case.json"), "w") as f:
                 f.write(json.dumps({"robot": args.robot, **files}, indent=2) + "\n")
-            answers[case] = {"effect": truth, "params": overrides, "reference": REF,
-                             "gait_set": gait_set}
+            answers[case] = {"effect": truth, "params": overrides, "reference": ref,
+                             "engine": args.engine, "gait_set": gait_set}
     with open(os.path.join(out_dir, "answers.sealed.json"), "w") as f:
         f.write(json.dumps(answers, indent=2) + "\n")
-    print(f"{args.robot}: reference {REF}; {spec['cycles']} cycles after {spec['settle']} at "
+    print(f"{args.robot}: reference {args.engine} {ref}; {spec['cycles']} cycles after {spec['settle']} at "
           f"{spec['rate']} Hz; travel (mm) of the clean first marker")
     print(f"{'case':16s} gait   case    null   model  case-null")
     for case, g, d, dn, dm in rows:
