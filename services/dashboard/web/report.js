@@ -74,6 +74,8 @@ const GFReport = (() => {
         `least, the model's own spread; ${e.range_accepted} of ${e.range_evaluations} evaluations` : "";
     return el("div", { class: "effect", "data-effect": e.id },
       el("h3", {}, e.id, " ", el("span", { class: "muted" }, "fitted in study "), studyLink(e.study_id)),
+      // Its name and meaning from the report (a robot's own suspects are in no catalog).
+      e.name ? el("p", {}, el("b", {}, e.name), ": ", e.meaning || "") : "",
       el("table", {}, el("thead", {}, el("tr", {}, ...["parameter", "value", "sd", "range", "allowed"]
         .map((h) => el("th", ["parameter", "range", "allowed"].includes(h) ? { class: "l" } : {}, h)))), body),
       el("p", { class: "muted" }, note));
