@@ -1,22 +1,14 @@
 #include "services/dashboard/json_text.h"
 
-#include <google/protobuf/struct.pb.h>
-#include <google/protobuf/util/json_util.h>
-
 #include <cmath>
 
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "services/core/json_text.h"
 
 namespace gaitforge::dashboard {
 
-std::string JsonString(const std::string& s) {
-  google::protobuf::Value v;
-  v.set_string_value(s);
-  std::string out;
-  (void)google::protobuf::util::MessageToJsonString(v, &out);
-  return out;
-}
+std::string JsonString(const std::string& s) { return core::JsonQuote(s); }
 
 std::string JsonNumber(double x) {
   if (std::isnan(x)) return "\"NaN\"";

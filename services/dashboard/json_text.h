@@ -6,7 +6,7 @@
 
 namespace gaitforge::dashboard {
 
-// `s` as a JSON string literal, escaped as protobuf's JSON printer escapes.
+// `s` as a JSON string literal (core::JsonQuote: the one quoting rule of gaitforge's JSON).
 std::string JsonString(const std::string& s);
 // `x` as a JSON number, or a string "NaN", "Infinity", "-Infinity" as proto3 JSON does.
 std::string JsonNumber(double x);
