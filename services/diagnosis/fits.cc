@@ -202,12 +202,20 @@ std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::str
 // file the variants agree on cannot take all the weight), scaled to a mean of 1. Empty when
 // an evaluation fails.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
-                                 std::vector<double>* floors) {
+                                 std::vector<double>* floors, std::vector<double>* variant_means) {
   const auto variants = NumericVariants(d);
   std::vector<std::vector<double>> e(variants.size());
   for (size_t v = 0; v < variants.size(); ++v) {
     e[v] = FileErrors(Make(d, {}), files, d, "", variants[v]);
     if (e[v].size() != files.size()) return {};
+  }
+  if (variant_means) {
+    variant_means->clear();
+    for (const auto& ev : e) {
+      double sum = 0;
+      for (double x : ev) sum += x;
+      variant_means->push_back(sum / ev.size());
+    }
   }
   floors->assign(files.size(), 0);
   for (size_t f = 0; f < files.size(); ++f) {
@@ -227,6 +235,23 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
   }
   for (double& x : w) x *= w.size() / sum;
   return w;
+}
+
+std::string NumericsNote(const std::vector<std::string>& variants,
+                         const std::vector<double>& training_errors) {
+  if (variants.empty() || training_errors.size() != variants.size() || !(training_errors[0] > 0))
+    return "";
+  size_t best = 0;
+  for (size_t i = 1; i < variants.size(); ++i)
+    if (training_errors[i] < training_errors[best]) best = i;
+  if (!(training_errors[best] < kUnconvergedShare * training_errors[0])) return "";
+  return absl::StrFormat(
+      "the model's numerics are not converged for these recordings: with %s the uncalibrated "
+      "model misses the training recordings by %.3g mm instead of %.3g mm (%+.0f%%), so an "
+      "effect named here may stand in for the step's own error; diagnose a model whose "
+      "numerics converge (gaitforge-bench-engines measures a robot's step)",
+      variants[best], 1000 * training_errors[best], 1000 * training_errors[0],
+      100 * (training_errors[best] / training_errors[0] - 1));
 }
 
 void TwoAtATime(size_t n, const std::function<void(size_t)>& run) {

@@ -82,8 +82,18 @@ std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::str
 
 // weighting: floor: each training file's weight 1 / sd^2 of the uncalibrated model's error
 // over the variants (floors: the sds). Empty when an evaluation fails.
+// variant_means (optional): per numeric variant, the uncalibrated model's mean error over
+// the files.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
-                                 std::vector<double>* floors);
+                                 std::vector<double>* floors,
+                                 std::vector<double>* variant_means = nullptr);
+
+// A caution when the model's own numerics are not converged for these recordings: some
+// numeric variant (variants[i], "" the model as it is) of the uncalibrated model misses the
+// training recordings by less than kUnconvergedShare of the model's own error; "" otherwise.
+inline constexpr double kUnconvergedShare = 0.8;
+std::string NumericsNote(const std::vector<std::string>& variants,
+                         const std::vector<double>& training_errors);
 
 // run(0) .. run(n - 1), two at a time (each typically one gaitforge-sim process).
 void TwoAtATime(size_t n, const std::function<void(size_t)>& run);

@@ -55,7 +55,7 @@ absl::Status CountSamples(RunState& s) {
 absl::Status Weigh(RunState& s) {
   s.fit_inputs = StudyInputs{s.in.train, s.in.held, ""};
   if (s.d.weighting() != "floor") return absl::OkStatus();
-  s.weights = FloorWeights(s.d, s.in.train_files, &s.train_floors);
+  s.weights = FloorWeights(s.d, s.in.train_files, &s.train_floors, &s.variant_train);
   if (s.weights.empty())
     return absl::FailedPreconditionError(
         "weighting: floor: the model failed on a training recording under a numeric variant "
@@ -148,7 +148,8 @@ absl::Status Refit(RunState& s) {
 const RangeVerdict& Judge(RunState& s, const Candidate* c) {
   if (s.judged.count(c)) return s.judged[c];
   if (s.ranges.empty()) {
-    if (s.train_floors.empty()) (void)FloorWeights(s.d, s.in.train_files, &s.train_floors);
+    if (s.train_floors.empty())
+      (void)FloorWeights(s.d, s.in.train_files, &s.train_floors, &s.variant_train);
     s.tolerance = TrainingTolerance(s.weights, s.train_floors);
   }
   uint64_t seed = s.d.seed() ^ 0xcbf29ce484222325ull;  // FNV-1a of the label into the seed

@@ -112,7 +112,8 @@ std::string Errors(const RunState& s) {
       ", \"baseline_held_out_variants\": ", NumList(s.base.held_variants),
       ", \"noise_floor_held_out\": ", Num(s.floor_sd), ", \"weighting\": ",
       JsonQuote(s.d.weighting()), ", \"training_weights\": ", NumList(s.weights),
-      ", \"training_floors\": ", NumList(s.train_floors));
+      ", \"training_floors\": ", NumList(s.train_floors), ", \"variant_training_errors\": ",
+      NumList(s.variant_train));
   if (!s.named.empty())
     absl::StrAppend(&j, ", \"train\": ", Num(s.named[0]->train), ", \"held_out\": ",
                     Num(s.named[0]->held));
@@ -174,7 +175,9 @@ std::string WriteReport(RunState& s) {
       ", \"refitted_singles\": ", s.singles, ", \"reused_fits\": ", s.reused,
       ", \"baseline_study_id\": ", JsonQuote(s.base.study_id));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
-                  ", \"none_reading\": ", JsonQuote(none.words), ", \"located\": ", s.located,
+                  ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",
+                  JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train)),
+                  ", \"located\": ", s.located,
                   ", \"located_held_out\": ", s.located_held, ", \"experiment\": ",
                   JsonQuote(Experiment(s, none)), ", \"corrected_model\": ",
                   JsonQuote(s.corrected), ", \"compared_samples\": ", s.n,

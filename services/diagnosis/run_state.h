@@ -28,6 +28,7 @@ struct RunState {
   int64_t n = 0;  // compared samples, for the BIC: period bins x channels per recording
   StudyInputs fit_inputs;
   std::vector<double> weights, train_floors;
+  std::vector<double> variant_train;  // the uncalibrated model's mean training error per variant
   int reused = 0;  // fits found in the database with the same spec, not run again
 
   Candidate base;

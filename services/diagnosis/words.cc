@@ -101,6 +101,7 @@ std::string Verdict(const Struct& r) {
                   1000 * N(err, "noise_floor_held_out"),
                   static_cast<int>(N(rule, "held_out_gain") * 100), N(rule, "paired_t")));
     if (!S(r, "none_reading").empty()) absl::StrAppend(&out, "  ", S(r, "none_reading"), "\n");
+    if (!S(r, "numerics_note").empty()) absl::StrAppend(&out, "  caution: ", S(r, "numerics_note"), "\n");
     if (!experiment.empty()) absl::StrAppend(&out, "  ", experiment, "\n");
     return out;
   }
@@ -117,6 +118,7 @@ std::string Verdict(const Struct& r) {
                             1000 * N(err, "baseline_held_out"), 1000 * N(first, "held_out"),
                             1000 * N(err, "baseline_train"), 1000 * N(first, "train"),
                             N(first, "delta_bic")));
+  if (!S(r, "numerics_note").empty()) absl::StrAppend(&out, "  caution: ", S(r, "numerics_note"), "\n");
   if (!experiment.empty()) absl::StrAppend(&out, "  to tell them apart: ", experiment, "\n");
   absl::StrAppend(&out, "  corrected model: ", S(r, "corrected_model"), "\n");
   return out;

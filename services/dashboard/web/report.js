@@ -38,6 +38,7 @@ const GFReport = (() => {
       el("p", { class: "verdict-line", id: "verdict-words" }, verdictWords(r)),
       el("p", { id: "errors" }, errorsLine(r)));
     if (r.none_reading) sec.append(p("what the located spread says", r.none_reading, { id: "none-reading" }));
+    if (r.numerics_note) sec.append(p("caution", r.numerics_note, { id: "numerics-note" }));
     const where = (r.located || {}).summary;
     if (where) sec.append(p("where it showed", where, { id: "where" }));
     if (r.experiment)

@@ -141,6 +141,20 @@ TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOne
       << s;
 }
 
+// The caution a report gives when a numeric variant fits the recordings much better than
+// the model's own numerics (the walker's null-1: 0.5 ms halves the error of 1 ms).
+TEST(NumericsNote, CautionsOnlyWhenAVariantCutsTheErrorBeyondTheShare) {
+  const std::vector<std::string> variants = {"", "simulation.timestep_s=0.0005",
+                                             "ground.contact_cfm=3e-5"};
+  const std::string note = NumericsNote(variants, {0.0033, 0.0018, 0.0031});
+  EXPECT_NE(note.find("not converged"), std::string::npos) << note;
+  EXPECT_NE(note.find("with simulation.timestep_s=0.0005"), std::string::npos) << note;
+  EXPECT_NE(note.find("1.8 mm instead of 3.3 mm (-45%)"), std::string::npos) << note;
+  EXPECT_EQ(NumericsNote(variants, {0.0033, 0.0029, 0.0031}), "");  // within 20%
+  EXPECT_EQ(NumericsNote(variants, {}), "");                        // not measured
+  EXPECT_EQ(NumericsNote(variants, {0.0033, 0.0018}), "");          // does not match
+}
+
 // A robot's own suspects (its descriptor's `suspects:`) are candidates beside the catalog's
 // effects, fitted from the nominal value over the range the descriptor gives.
 TEST(DiagnosisSpec, ARobotsSuspectsAreCandidatesStartingAtTheModel) {
