@@ -40,7 +40,7 @@ absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1:
 
 // gaitforge-sim's --robot for d's robot: a file holding the descriptor the spec carries (in
 // the temporary directory, named by the content's hash), a built-in generic robot's name,
-// or "" for a built-in robot with a model of its own (the caterpillar: the default).
+// or "" for a built-in robot with a model kind of its own (gaitforge-sim's default model).
 std::string RobotArg(const v1::DiagnosisSpec& d);
 
 // The candidate with these effects: its genes (base parameters, effect parameters, time

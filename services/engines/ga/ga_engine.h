@@ -1,5 +1,5 @@
 #pragma once
-// The caterpillar paper's GA, exactly (../shared/robots/caterpillar.md, section GA):
+// Paper 000's GA, exactly (../shared/papers/, paper 000, section on the GA), for any gene space:
 //  - generation 0: every gene uniform in its range;
 //  - the `elite` best (the hall of fame, 10 in the paper) pass unchanged to the next
 //    generation, with their evaluation (they are not evaluated again);

@@ -1,6 +1,6 @@
 #pragma once
-// The caterpillar paper's genetic operators as free functions over explicit random
-// streams (../shared/robots/caterpillar.md, section GA; paper 000, section on the GA).
+// Paper 000's genetic operators as free functions over explicit random streams
+// (../shared/papers/, paper 000, section on the GA); they know genes and ranges, no robot.
 #include <vector>
 
 #include "services/core/keyed_rng.h"
