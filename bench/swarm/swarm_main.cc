@@ -20,6 +20,7 @@
 #include "services/core/flags.h"
 #include "services/rpc/channel.h"
 #include "services/spec/spec_loader.h"
+#include "services/rpc/process.h"
 
 using namespace gaitforge;
 using namespace gaitforge::swarm;
@@ -82,6 +83,7 @@ void ScheduleKills(const Options& o, EventLoop& loop,
 }  // namespace
 
 int main(int argc, char** argv) {
+  rpc::DisableAbslDeadlockDetection();
   Options o;
   bool help = false;
   std::string usage;

@@ -73,13 +73,13 @@ absl::StatusOr<Auth> Auth::Load(const std::string& tokens_file) {
   return auth;
 }
 
-grpc::Status Auth::CheckEither(const grpc::ServerContext* ctx, Role a, Role b) const {
+grpc::Status Auth::CheckEither(const grpc::ServerContextBase* ctx, Role a, Role b) const {
   grpc::Status s = Check(ctx, a);
   if (s.ok() || s.error_code() == grpc::StatusCode::UNAUTHENTICATED) return s;
   return Check(ctx, b);
 }
 
-grpc::Status Auth::Check(const grpc::ServerContext* ctx, Role needed) const {
+grpc::Status Auth::Check(const grpc::ServerContextBase* ctx, Role needed) const {
   if (tokens_.empty()) return grpc::Status::OK;
   const auto& md = ctx->client_metadata();
   auto it = md.find("authorization");

@@ -24,9 +24,9 @@ class Auth {
   bool enabled() const { return !tokens_.empty(); }
   // OK if the call may act as `needed` (admin may act as anyone); UNAUTHENTICATED without a
   // known token, PERMISSION_DENIED with a token of another role.
-  grpc::Status Check(const grpc::ServerContext* ctx, Role needed) const;
+  grpc::Status Check(const grpc::ServerContextBase* ctx, Role needed) const;
   // OK if the call may act as either role.
-  grpc::Status CheckEither(const grpc::ServerContext* ctx, Role a, Role b) const;
+  grpc::Status CheckEither(const grpc::ServerContextBase* ctx, Role a, Role b) const;
   // The same rule for any carrier of the "Bearer TOKEN" value (gRPC metadata, an HTTP
   // header): `authorization` is the value, nullptr when absent; `carrier` names it in
   // messages ("metadata", "header"). UNAUTHENTICATED or PERMISSION_DENIED as Check.

@@ -65,9 +65,14 @@ Coordinator::Coordinator(std::unique_ptr<storage::StudyStore> store, Coordinator
       clock_(clock),
       queue_(clock, queue::QueueOptions{options.lease_ms, options.max_attempts,
                                         options.backup_after_ms},
-             NewEpoch()) {}
+             NewEpoch()) {
+  dispatcher_ = std::thread([this] { DispatchLeases(); });
+}
 
-Coordinator::~Coordinator() { Shutdown(); }
+Coordinator::~Coordinator() {
+  Shutdown();
+  if (dispatcher_.joinable()) dispatcher_.join();
+}
 
 std::map<std::string, double> MetricsOf(const v1::Evaluation& e) {
   return std::map<std::string, double>(e.metrics().begin(), e.metrics().end());
@@ -227,7 +232,7 @@ void Coordinator::StartGeneration(Study& s, const std::vector<storage::Individua
     CompleteGeneration(s);
     return;
   }
-  work_cv_.notify_all();
+  WakeDispatcher();
 }
 
 void Coordinator::Accept(Study& s, int member, Result result,

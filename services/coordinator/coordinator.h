@@ -6,15 +6,21 @@
 // the generation, engine state and hall of fame -> the next Ask().
 // Thread-safe: every public method takes mu_. The gRPC adapters (services.h) only
 // convert messages and statuses.
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
+#include <list>
+#include <set>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -51,6 +57,9 @@ struct CoordinatorOptions {
 // random hex digits.
 std::string NewId(const std::string& name);
 
+// OK if a worker call's identity is usable (an id of 1..256 characters).
+absl::Status CheckWorker(const v1::WorkerInfo& w);
+
 class Coordinator {
  public:
   Coordinator(std::unique_ptr<storage::StudyStore> store, CoordinatorOptions options,
@@ -80,7 +89,18 @@ class Coordinator {
   int64_t WaitForChange(int64_t seen, int timeout_ms);
 
   // WorkerService.
+  // A lease's answer, delivered exactly once: on the calling thread when jobs are there
+  // (or the call waits for none), else on the lease dispatcher's thread when jobs arrive,
+  // `wait_ms` passes, `cancelled` turns true or the coordinator shuts down. A thousand
+  // waiting long polls cost no thread each, and a new generation is handed to all of them
+  // from one place (issue 30).
+  using LeaseDone = std::function<void(absl::StatusOr<v1::LeaseResponse>)>;
+  void LeaseAsync(const v1::LeaseRequest& request, LeaseDone done,
+                  std::shared_ptr<std::atomic<bool>> cancelled = nullptr);
+  // The same, blocking until the answer.
   absl::StatusOr<v1::LeaseResponse> Lease(const v1::LeaseRequest& request);
+  // Re-examines the waiting leases now (a caller cancelled one).
+  void WakeLeases();
   absl::StatusOr<v1::ReportResponse> Report(const v1::ReportRequest& request);
   absl::StatusOr<v1::HeartbeatResponse> Heartbeat(const v1::HeartbeatRequest& request);
 
@@ -118,6 +138,34 @@ class Coordinator {
     std::shared_ptr<const v1::Job> job_prototype;
   };
 
+  // A Lease call waiting for jobs.
+  struct Waiter {
+    std::string worker_id, build;
+    std::set<std::string> objectives;  // empty: any
+    int max_jobs = 1;
+    std::chrono::steady_clock::time_point deadline;
+    LeaseDone done;
+    std::shared_ptr<std::atomic<bool>> cancelled;  // may be null
+  };
+  // What a lease grants, decided under mu_ and turned into a message outside it.
+  struct Granted {
+    queue::Lease lease;
+    std::shared_ptr<const v1::Job> prototype;  // the study's objective and bounds
+    std::vector<double> genes;
+  };
+  struct Delivery {
+    LeaseDone done;
+    absl::Status error;
+    std::vector<Granted> granted;
+    int64_t lease_ms = 0;
+  };
+  // The waiter's answer if it has one now; `final`: answer even with no jobs.
+  std::optional<Delivery> TryServe(Waiter& w, bool final);  // under mu_
+  std::vector<Granted> Grant(const std::vector<queue::Lease>& leases, const std::string& build);
+  static void Deliver(Delivery d);  // outside mu_
+  void DispatchLeases();            // the dispatcher thread's loop
+  void WakeDispatcher();            // under mu_
+
   absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
   // The engine's spread after `generation` if that is the latest committed one.
   std::vector<double> SpreadAfter(const std::string& id, int generation);
@@ -150,7 +198,7 @@ class Coordinator {
   core::Clock& clock_;
 
   mutable std::mutex mu_;
-  std::condition_variable work_cv_;    // jobs became available, or shutdown
+  std::condition_variable work_cv_;    // wakes the lease dispatcher
   std::condition_variable change_cv_;  // version_ changed
   // Studies this process scheduled, running or ended since; their record is authoritative
   // (the store may lag by the writes in flight). Jobs are only scheduled for running ones.
@@ -164,6 +212,9 @@ class Coordinator {
   // options_.lease_ms).
   double batch_ms_ewma_ = 0;                               // GUARDED_BY(mu_)
   bool shutdown_ = false;                                  // GUARDED_BY(mu_)
+  std::list<Waiter> waiters_;                              // GUARDED_BY(mu_)
+  bool wake_ = false;  // jobs may be there for waiters;     GUARDED_BY(mu_)
+  std::thread dispatcher_;  // last member: started when everything else is built
 };
 
 }  // namespace gaitforge::coordinator

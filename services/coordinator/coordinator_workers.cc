@@ -14,15 +14,6 @@
 namespace gaitforge::coordinator {
 namespace {
 
-constexpr int kMaxJobsPerLease = 1024;
-constexpr int kMaxWaitMs = 10000;
-
-absl::Status CheckWorker(const v1::WorkerInfo& w) {
-  if (w.worker_id().empty() || w.worker_id().size() > 256)
-    return absl::InvalidArgumentError("field 'worker.worker_id' must have 1..256 characters");
-  return absl::OkStatus();
-}
-
 std::string KeyText(const v1::JobKey& k) {
   return absl::StrCat("(study '", k.study_id(), "', generation ", k.generation(), ", member ",
                       k.member(), ")");
@@ -30,90 +21,10 @@ std::string KeyText(const v1::JobKey& k) {
 
 }  // namespace
 
-absl::StatusOr<v1::LeaseResponse> Coordinator::Lease(const v1::LeaseRequest& req) {
-  if (auto s = CheckWorker(req.worker()); !s.ok()) return s;
-  if (req.max_jobs() < 1 || req.max_jobs() > kMaxJobsPerLease)
-    return absl::InvalidArgumentError(absl::StrCat(
-        "field 'max_jobs' = ", req.max_jobs(), " is out of range [1, ", kMaxJobsPerLease, "]"));
-  if (req.wait_ms() < 0 || req.wait_ms() > kMaxWaitMs)
-    return absl::InvalidArgumentError(absl::StrCat("field 'wait_ms' = ", req.wait_ms(),
-                                                   " is out of range [0, ", kMaxWaitMs, "]"));
-  const std::set<std::string> objectives(req.worker().objectives().begin(),
-                                         req.worker().objectives().end());
-  std::unique_lock<std::mutex> l(mu_);
-  Touch(req.worker().worker_id());
-  const std::string& build = req.worker().sim_build();
-  bool refused_build = false;  // jobs were there, but of a study pinned to another build
-  auto accept = [&](const queue::JobKey& k) {
-    auto it = studies_.find(k.study_id);
-    if (it == studies_.end() || it->second->record.state != "running") return false;
-    if (!objectives.empty() && !objectives.count(it->second->spec.objective().name())) return false;
-    const std::string& pinned = it->second->record.sim_build;
-    if (!pinned.empty() && pinned != build) {
-      refused_build = true;
-      return false;
-    }
-    return true;
-  };
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(req.wait_ms());
-  std::vector<queue::Lease> leases;
-  for (;;) {
-    leases = queue_.LeaseJobs(req.worker().worker_id(), FairShare(req.max_jobs()), accept);
-    if (!leases.empty() || shutdown_) break;
-    if (work_cv_.wait_until(l, deadline) == std::cv_status::timeout) {
-      leases = queue_.LeaseJobs(req.worker().worker_id(), FairShare(req.max_jobs()), accept);
-      break;
-    }
-  }
-  if (leases.empty() && refused_build)
-    return absl::FailedPreconditionError(absl::StrCat(
-        "simulator build '", build, "' of worker '", req.worker().worker_id(),
-        "' differs from the build the studies' results come from; run workers of that build"));
-  v1::LeaseResponse out;
-  out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
-  if (options_.metrics) {
-    int backups = 0;
-    for (const auto& lease : leases) backups += lease.backup;
-    options_.metrics->Leased(static_cast<int>(leases.size()), backups);
-  }
-  // Under the lock only what the queue and the engine decide; the messages are built
-  // after it is released (a new generation wakes every waiting worker at once).
-  struct Granted {
-    std::shared_ptr<const v1::Job> prototype;  // the study's objective and bounds
-    std::vector<double> genes;
-  };
-  std::vector<Granted> granted;
-  granted.reserve(leases.size());
-  for (const auto& lease : leases) {
-    Study& s = *studies_.at(lease.key.study_id);
-    if (s.record.sim_build.empty() && !build.empty()) {
-      // The first lease pins the study to this simulator build.
-      s.record.sim_build = build;
-      WatchWrite(store_->SetStudySimBuild(s.id, build), s.id);
-    }
-    ++s.counters.leases;
-    if (lease.backup) ++s.counters.backups;
-    if (!s.job_prototype) {
-      auto proto = std::make_shared<v1::Job>();
-      *proto->mutable_objective() = s.spec.objective();
-      *proto->mutable_bounds() = s.spec.bounds();
-      s.job_prototype = std::move(proto);
-    }
-    granted.push_back({s.job_prototype, s.engine->Ask()[lease.key.member].genes});
-  }
-  l.unlock();
-  for (size_t i = 0; i < leases.size(); ++i) {
-    const queue::Lease& lease = leases[i];
-    auto* job = out.add_jobs();
-    *job = *granted[i].prototype;
-    job->mutable_key()->set_study_id(lease.key.study_id);
-    job->mutable_key()->set_generation(lease.key.generation);
-    job->mutable_key()->set_member(lease.key.member);
-    job->mutable_genes()->Add(granted[i].genes.begin(), granted[i].genes.end());
-    job->set_lease_id(lease.lease_id);
-    job->set_backup(lease.backup);
-  }
-  return out;
+absl::Status CheckWorker(const v1::WorkerInfo& w) {
+  if (w.worker_id().empty() || w.worker_id().size() > 256)
+    return absl::InvalidArgumentError("field 'worker.worker_id' must have 1..256 characters");
+  return absl::OkStatus();
 }
 
 void Coordinator::Touch(const std::string& worker_id) {
@@ -314,7 +225,7 @@ void Coordinator::Tick() {
   }
   for (auto& [id, batch] : rows) WatchWrite(store_->AppendResults(std::move(batch)), id);
   for (const auto& id : finished) CompleteGeneration(*studies_.at(id));
-  if (queue_.pending() > 0) work_cv_.notify_all();
+  if (queue_.pending() > 0) WakeDispatcher();
   // Forget workers silent for ten lease periods (restarted workers get new ids).
   const int64_t now = clock_.NowMs();
   std::erase_if(workers_seen_,
@@ -349,8 +260,8 @@ void Coordinator::Shutdown() {
   {
     std::lock_guard<std::mutex> l(mu_);
     shutdown_ = true;
+    WakeDispatcher();  // answers every waiting lease, then stops
   }
-  work_cv_.notify_all();
   change_cv_.notify_all();
   (void)store_->Flush();  // every write accepted so far is committed
 }

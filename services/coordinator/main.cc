@@ -29,6 +29,7 @@
 #include "services/core/flags.h"
 #include "services/core/logging.h"
 #include "services/dashboard/http_server.h"
+#include "services/rpc/process.h"
 
 using namespace gaitforge;
 
@@ -43,6 +44,7 @@ int Fail(const std::string& msg) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  rpc::DisableAbslDeadlockDetection();
   std::string listen = "127.0.0.1:50051";
   std::string db = "runs/gaitforge.db";
   std::string port_file;

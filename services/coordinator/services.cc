@@ -109,23 +109,61 @@ grpc::Status StudyServiceImpl::CancelStudy(grpc::ServerContext* ctx,
   return Reply(c_.CancelStudy(req->study_id()), out);
 }
 
-grpc::Status WorkerServiceImpl::Lease(grpc::ServerContext* ctx, const v1::LeaseRequest* req,
-                                      v1::LeaseResponse* out) {
-  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
-  return Reply(c_.Lease(*req), out);
+namespace {
+
+// A Lease call: finished once, by the coordinator's answer; a caller that goes away marks
+// it cancelled so that no jobs are leased to it.
+class LeaseReactor final : public grpc::ServerUnaryReactor {
+ public:
+  explicit LeaseReactor(Coordinator& c) : c_(c) {}
+  std::shared_ptr<std::atomic<bool>> cancelled() const { return cancelled_; }
+  void OnCancel() override {
+    cancelled_->store(true);
+    c_.WakeLeases();
+  }
+  void OnDone() override { delete this; }
+
+ private:
+  Coordinator& c_;
+  std::shared_ptr<std::atomic<bool>> cancelled_ = std::make_shared<std::atomic<bool>>(false);
+};
+
+// A callback method answered on the calling thread: the call's result, unless `auth` refused.
+template <typename Call, typename Out>
+grpc::ServerUnaryReactor* AnswerNow(grpc::CallbackServerContext* ctx, const grpc::Status& auth,
+                                    Call call, Out* out) {
+  auto* reactor = ctx->DefaultReactor();
+  reactor->Finish(auth.ok() ? Reply(call(), out) : auth);
+  return reactor;
 }
 
-grpc::Status WorkerServiceImpl::Report(grpc::ServerContext* ctx, const v1::ReportRequest* req,
-                                       v1::ReportResponse* out) {
-  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
-  return Reply(c_.Report(*req), out);
+}  // namespace
+
+grpc::ServerUnaryReactor* WorkerServiceImpl::Lease(grpc::CallbackServerContext* ctx,
+                                                   const v1::LeaseRequest* req,
+                                                   v1::LeaseResponse* out) {
+  auto* reactor = new LeaseReactor(c_);
+  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) {
+    reactor->Finish(a);
+    return reactor;
+  }
+  c_.LeaseAsync(
+      *req,
+      [reactor, out](absl::StatusOr<v1::LeaseResponse> r) { reactor->Finish(Reply(std::move(r), out)); },
+      reactor->cancelled());
+  return reactor;
 }
 
-grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext* ctx,
-                                          const v1::HeartbeatRequest* req,
-                                          v1::HeartbeatResponse* out) {
-  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) return a;
-  return Reply(c_.Heartbeat(*req), out);
+grpc::ServerUnaryReactor* WorkerServiceImpl::Report(grpc::CallbackServerContext* ctx,
+                                                    const v1::ReportRequest* req,
+                                                    v1::ReportResponse* out) {
+  return AnswerNow(ctx, auth_.Check(ctx, Role::kWorker), [&] { return c_.Report(*req); }, out);
+}
+
+grpc::ServerUnaryReactor* WorkerServiceImpl::Heartbeat(grpc::CallbackServerContext* ctx,
+                                                       const v1::HeartbeatRequest* req,
+                                                       v1::HeartbeatResponse* out) {
+  return AnswerNow(ctx, auth_.Check(ctx, Role::kWorker), [&] { return c_.Heartbeat(*req); }, out);
 }
 
 grpc::Status RecordingServiceImpl::AddRecording(grpc::ServerContext* ctx,

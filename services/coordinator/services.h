@@ -35,15 +35,17 @@ class StudyServiceImpl final : public v1::StudyService::Service {
   const Auth& auth_;
 };
 
-class WorkerServiceImpl final : public v1::WorkerService::Service {
+// gRPC's callback API: a waiting Lease holds no thread (the coordinator's dispatcher
+// answers it), and reports and heartbeats run on gRPC's own threads (issue 30).
+class WorkerServiceImpl final : public v1::WorkerService::CallbackService {
  public:
   WorkerServiceImpl(Coordinator& c, const Auth& auth) : c_(c), auth_(auth) {}
-  grpc::Status Lease(grpc::ServerContext*, const v1::LeaseRequest*,
-                     v1::LeaseResponse*) override;
-  grpc::Status Report(grpc::ServerContext*, const v1::ReportRequest*,
-                      v1::ReportResponse*) override;
-  grpc::Status Heartbeat(grpc::ServerContext*, const v1::HeartbeatRequest*,
-                         v1::HeartbeatResponse*) override;
+  grpc::ServerUnaryReactor* Lease(grpc::CallbackServerContext*, const v1::LeaseRequest*,
+                                  v1::LeaseResponse*) override;
+  grpc::ServerUnaryReactor* Report(grpc::CallbackServerContext*, const v1::ReportRequest*,
+                                   v1::ReportResponse*) override;
+  grpc::ServerUnaryReactor* Heartbeat(grpc::CallbackServerContext*, const v1::HeartbeatRequest*,
+                                      v1::HeartbeatResponse*) override;
 
  private:
   Coordinator& c_;

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <atomic>
+#include <future>
+
 #include "services/coordinator/coordinator.h"
 #include "tests/integration/study_driver.h"
 #include "tests/support/temp_dir.h"
@@ -66,6 +69,64 @@ TEST(Coordinator, IdleWorkersGetEqualShares) {
     ASSERT_TRUE(lease.ok()) << lease.status();
     EXPECT_EQ(lease->jobs_size(), 10) << w;
   }
+}
+
+v1::LeaseRequest WaitingLease(const char* worker, int wait_ms) {
+  v1::LeaseRequest req;
+  req.mutable_worker()->set_worker_id(worker);
+  req.set_max_jobs(100);
+  req.set_wait_ms(wait_ms);
+  return req;
+}
+
+// Starts a long poll of up to 10 s; its answer arrives on the future.
+std::future<absl::StatusOr<v1::LeaseResponse>> StartLongPoll(
+    Coordinator& c, const char* worker, std::shared_ptr<std::atomic<bool>> cancelled = nullptr) {
+  auto answer = std::make_shared<std::promise<absl::StatusOr<v1::LeaseResponse>>>();
+  auto f = answer->get_future();
+  c.LeaseAsync(WaitingLease(worker, 10000), [answer](auto r) { answer->set_value(std::move(r)); },
+               std::move(cancelled));
+  return f;
+}
+
+// A long poll holds no thread: the dispatcher answers it when jobs arrive (issue 30).
+TEST(Coordinator, AWaitingLeaseIsAnsweredWhenJobsArrive) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("w.db"), clock);
+  auto f = StartLongPoll(*c, "w");
+  EXPECT_EQ(f.wait_for(std::chrono::seconds(0)), std::future_status::timeout);  // no jobs yet
+  Create(*c, SmallSpec(4));
+  ASSERT_EQ(f.wait_for(std::chrono::seconds(9)), std::future_status::ready);
+  auto lease = f.get();
+  ASSERT_TRUE(lease.ok()) << lease.status();
+  ASSERT_EQ(lease->jobs_size(), 30);
+  for (const auto& j : lease->jobs()) EXPECT_EQ(j.key().generation(), 0);
+}
+
+// A caller that went away (its call cancelled) is leased nothing, even when jobs arrive.
+TEST(Coordinator, ACancelledWaitingLeaseIsLeasedNothing) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("x.db"), clock);
+  auto cancelled = std::make_shared<std::atomic<bool>>(false);
+  auto f = StartLongPoll(*c, "gone", cancelled);
+  cancelled->store(true);
+  Create(*c, SmallSpec(5));
+  EXPECT_EQ(f.get().status().code(), absl::StatusCode::kCancelled);
+  EXPECT_EQ(c->QueueStats().leased, 0);  // every job is still there for others
+}
+
+TEST(Coordinator, ShutdownAnswersWaitingLeases) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("s.db"), clock);
+  auto f = StartLongPoll(*c, "w");
+  c->Shutdown();
+  ASSERT_EQ(f.wait_for(std::chrono::seconds(9)), std::future_status::ready);
+  auto lease = f.get();
+  ASSERT_TRUE(lease.ok()) << lease.status();
+  EXPECT_EQ(lease->jobs_size(), 0);
 }
 
 TEST(Coordinator, ResultDoesNotDependOnBatchingOrReportOrder) {

@@ -13,10 +13,12 @@
 #include "workers/sim/ode_runtime.h"
 #include "workers/worker/registry.h"
 #include "workers/worker/worker_loop.h"
+#include "services/rpc/process.h"
 
 using namespace gaitforge;
 
 int main(int argc, char** argv) {
+  rpc::DisableAbslDeadlockDetection();
   worker::WorkerOptions o;
   std::string log_level = "info";
   o.threads = 1;
