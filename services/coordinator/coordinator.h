@@ -163,6 +163,8 @@ class Coordinator {
   std::optional<Delivery> TryServe(Waiter& w, bool final);  // under mu_
   std::vector<Granted> Grant(const std::vector<queue::Lease>& leases, const std::string& build);
   static void Deliver(Delivery d);  // outside mu_
+  // Delivers `ready` with mu_ released (held by `l` before and after), and clears it.
+  void DeliverUnlocked(std::unique_lock<std::mutex>& l, std::vector<Delivery>& ready);
   void DispatchLeases();            // the dispatcher thread's loop
   void WakeDispatcher();            // under mu_
 
@@ -213,7 +215,10 @@ class Coordinator {
   double batch_ms_ewma_ = 0;                               // GUARDED_BY(mu_)
   bool shutdown_ = false;                                  // GUARDED_BY(mu_)
   std::list<Waiter> waiters_;                              // GUARDED_BY(mu_)
-  bool wake_ = false;  // jobs may be there for waiters;     GUARDED_BY(mu_)
+  bool wake_ = false;         // jobs may be there for waiters; GUARDED_BY(mu_)
+  bool cancel_wake_ = false;  // a waiter's call was cancelled;  GUARDED_BY(mu_)
+  // When the dispatcher wakes at the latest; GUARDED_BY(mu_).
+  std::chrono::steady_clock::time_point next_deadline_;
   std::thread dispatcher_;  // last member: started when everything else is built
 };
 

@@ -117,6 +117,11 @@ class LeaseReactor final : public grpc::ServerUnaryReactor {
  public:
   explicit LeaseReactor(Coordinator& c) : c_(c) {}
   std::shared_ptr<std::atomic<bool>> cancelled() const { return cancelled_; }
+  // The callback that finishes the call with the coordinator's answer into *out.
+  template <typename Out>
+  std::function<void(absl::StatusOr<Out>)> Answer(Out* out) {
+    return [this, out](absl::StatusOr<Out> r) { Finish(Reply(std::move(r), out)); };
+  }
   void OnCancel() override {
     cancelled_->store(true);
     c_.WakeLeases();
@@ -143,14 +148,8 @@ grpc::ServerUnaryReactor* WorkerServiceImpl::Lease(grpc::CallbackServerContext* 
                                                    const v1::LeaseRequest* req,
                                                    v1::LeaseResponse* out) {
   auto* reactor = new LeaseReactor(c_);
-  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) {
-    reactor->Finish(a);
-    return reactor;
-  }
-  c_.LeaseAsync(
-      *req,
-      [reactor, out](absl::StatusOr<v1::LeaseResponse> r) { reactor->Finish(Reply(std::move(r), out)); },
-      reactor->cancelled());
+  if (auto a = auth_.Check(ctx, Role::kWorker); !a.ok()) reactor->Finish(a);
+  else c_.LeaseAsync(*req, reactor->Answer(out), reactor->cancelled());
   return reactor;
 }
 
