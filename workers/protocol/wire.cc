@@ -62,7 +62,7 @@ v1::WorkerInfo MakeWorkerInfo(const std::string& worker_id, int threads,
 int WantJobs(int threads, double mean_eval_s, int max_batch) {
   int want = threads * 4;
   if (mean_eval_s > 0) {
-    const double per_thread = std::ceil(kTargetBatchSeconds / mean_eval_s);
+    const double per_thread = std::ceil(kBatchHeadroom * kTargetBatchSeconds / mean_eval_s);
     want = static_cast<int>(std::min<double>(threads * per_thread, 1 << 20));
   }
   return std::clamp(want, 1, std::min(max_batch, 1024));

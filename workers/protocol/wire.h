@@ -24,6 +24,12 @@ constexpr double kDrainReportGiveUpS = 10;
 // The worker aims at about this much work per lease: two round trips per batch, so 0.5 s
 // cost a thousand workers with 500 ms evaluations four RPCs per second each (issue 30).
 constexpr double kTargetBatchSeconds = 2.0;
+// A worker asks for up to this many times its target: the coordinator's fair share still
+// splits a generation evenly, but an estimate a little above the true evaluation time (a
+// jittery or late timer) no longer leaves a generation's last jobs for a second round
+// (issue 30: at 256 x 50 ms, asks of 35 jobs against shares of 40 made some generations
+// take two rounds).
+constexpr double kBatchHeadroom = 1.5;
 
 // UNAVAILABLE, DEADLINE_EXCEEDED, RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN.
 bool Retryable(const grpc::Status& s);
@@ -57,7 +63,7 @@ v1::WorkerInfo MakeWorkerInfo(const std::string& worker_id, int threads,
                               const std::string& sim_build,
                               const std::vector<std::string>& objectives);
 
-// Jobs to ask for: about kTargetBatchSeconds of work on `threads` threads given the running
+// Jobs to ask for: about kBatchHeadroom x kTargetBatchSeconds of work on `threads` threads given the running
 // estimate of one evaluation (0: unknown, then 4 per thread), within [1, max_batch].
 int WantJobs(int threads, double mean_eval_s, int max_batch);
 // The running estimate after a batch of n evaluations took batch_s on `threads` threads.
