@@ -216,7 +216,9 @@ class Coordinator {
   bool shutdown_ = false;                                  // GUARDED_BY(mu_)
   std::list<Waiter> waiters_;                              // GUARDED_BY(mu_)
   bool wake_ = false;         // jobs may be there for waiters; GUARDED_BY(mu_)
-  bool cancel_wake_ = false;  // a waiter's call was cancelled;  GUARDED_BY(mu_)
+  // A waiter's call was cancelled, or one waits less than the dispatcher would sleep:
+  // answer what is due and sleep again; GUARDED_BY(mu_).
+  bool recheck_ = false;
   // When the dispatcher wakes at the latest; GUARDED_BY(mu_).
   std::chrono::steady_clock::time_point next_deadline_;
   std::thread dispatcher_;  // last member: started when everything else is built

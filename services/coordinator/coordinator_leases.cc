@@ -56,7 +56,10 @@ void Coordinator::LeaseAsync(const v1::LeaseRequest& req, LeaseDone done,
     Touch(w.worker_id);
     now = TryServe(w, req.wait_ms() == 0 || shutdown_);
     if (!now) {
-      if (w.deadline < next_deadline_) work_cv_.notify_all();  // the dispatcher sleeps longer
+      if (w.deadline < next_deadline_) {  // the dispatcher would sleep past it
+        recheck_ = true;
+        work_cv_.notify_all();
+      }
       waiters_.push_back(std::move(w));
     }
   }
@@ -145,7 +148,7 @@ void Coordinator::WakeDispatcher() {
 
 void Coordinator::WakeLeases() {
   std::lock_guard<std::mutex> l(mu_);
-  cancel_wake_ = true;
+  recheck_ = true;
   work_cv_.notify_all();
 }
 
@@ -163,12 +166,12 @@ void Coordinator::DispatchLeases() {
   for (;;) {
     next_deadline_ = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     for (const Waiter& w : waiters_) next_deadline_ = std::min(next_deadline_, w.deadline);
-    work_cv_.wait_until(l, next_deadline_, [&] { return wake_ || cancel_wake_ || shutdown_; });
+    work_cv_.wait_until(l, next_deadline_, [&] { return wake_ || recheck_ || shutdown_; });
     // Jobs arrived: every waiter tries. Otherwise only those whose wait ended or whose
     // caller went away (a pass over a thousand waiters per new waiter cost ~5% of the
     // coordinator's CPU and held the mutex that reports need).
     const bool jobs = wake_ || shutdown_;
-    wake_ = cancel_wake_ = false;
+    wake_ = recheck_ = false;
     const auto now = std::chrono::steady_clock::now();
     std::vector<Delivery> ready;
     // Waiters in arrival order, so that a generation goes to the longest waiting first,
