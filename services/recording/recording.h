@@ -19,11 +19,11 @@ namespace gaitforge::recording {
 
 // What the sidecar says.
 struct RecordingMeta {
-  std::string robot;                         // "caterpillar"
+  std::string robot;                         // a robot name or descriptor (robots/)
   std::string parameters;                    // parameter file the robot was built with (path)
   std::map<std::string, double> overrides;   // parameter overrides (name -> value)
   std::string command_kind;                  // "gait"
-  std::vector<double> genes;                 // the command: 13 gait genes for the caterpillar
+  std::vector<double> genes;                 // the command: the gait genes of its robot
   std::string source;                        // "simulation" | "hardware" | free text
   std::string note;
   std::map<std::string, std::string> channel_units;  // optional channel metadata
@@ -70,7 +70,7 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
 // Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
 std::string ContentHash(std::string_view csv, std::string_view sidecar);
 
-// The channels a robot's recordings may carry ("m1.x" .. "m6.z" for the caterpillar);
+// The channels a robot's recordings may carry (its descriptor's sensors);
 // empty for an unknown robot.
 std::vector<std::string> KnownChannels(const std::string& robot);
 

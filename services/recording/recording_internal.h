@@ -15,7 +15,7 @@ namespace gaitforge::recording::internal {
 
 // A robot that recordings may describe.
 struct RobotInfo {
-  std::string name;                   // "caterpillar"
+  std::string name;                   // the robot's name in robots/
   std::vector<std::string> channels;  // the CSV columns it may carry, besides "t"
   int gene_count = 0;                 // length of command.genes for kind "gait"
   std::string gene_names;             // for messages: "a_T1 a_T2 ... T"
@@ -28,7 +28,7 @@ struct RobotInfo {
 // What a recording of robot d may hold: its sensors' channels, its controller's genes.
 RobotInfo InfoOf(const robots::RobotDescriptor& d);
 const RobotInfo* FindRobot(std::string_view name);  // a built-in robot; nullptr when unknown
-std::string KnownRobots();                          // "caterpillar"
+std::string KnownRobots();                          // the names, comma-separated
 
 // The unit a channel's values are in: "rad" for "<joint>.angle", "m" otherwise (markers).
 std::string UnitOf(std::string_view channel);

@@ -6,7 +6,7 @@ namespace gaitforge::spec {
 
 const std::vector<EngineKind>& EngineKinds() {
   static const std::vector<EngineKind> kinds = {
-      GaEngineKind(),     // the caterpillar paper's GA (default)
+      GaEngineKind(),     // paper 000's GA (default)
       CmaesEngineKind(),  // CMA-ES with IPOP/BIPOP restarts
       SweepEngineKind(),  // grid, then Nelder-Mead
   };
