@@ -8,7 +8,13 @@ The answers name the catalog effect(s) a diagnosis may call it (`accept`), and w
 forms are comparable, the library parameter's equivalent value (a 30-degree hose's
 horizontal pull, for example). run_suite.py scores them with --suite tests/diagnosis/foreign.
 
+--build mujoco makes a second suite (default --out tests/diagnosis/foreign-mujoco) from the
+caterpillar's MuJoCo build (bench/independent/caterpillar_mujoco.cc: generalised
+coordinates, soft convex contact with mu 2, tendon pistons), with its own effects and
+magnitudes (MUJOCO_CASES): a suite the gap finder was not tuned on.
+
     /usr/bin/python3 bench/diagnosis/make_foreign_cases.py [--out tests/diagnosis/foreign]
+        [--build rig2d|mujoco]
 """
 import argparse
 import json
@@ -22,6 +28,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_cases  # noqa: E402  (disguise, check, distance_per_cycle, gaits)
+import mujoco_caterpillar  # noqa: E402
 import rig2d  # noqa: E402
 
 COS30 = math.cos(math.radians(30))
@@ -58,26 +65,69 @@ CASES = [
      {"scale.link_damping": 3.0}, 213),
 ]
 
+# The MuJoCo build's cases: its hose pulls straight back (the library's tether is the same
+# form), its drag is linear, its slope tilts gravity; magnitudes chosen before any run of
+# the gap finder on this build, none equal to a rig2d case's.
+MUJOCO_CASES = [
+    ("mujoco-null", {}, "none", [], {}, 301),
+    ("mujoco-hose", {"hose_n": 0.4}, "tether.constant", ["tether.constant", "tether.growing"],
+     {"effect.tether_force_n": 0.4}, 302),
+    ("mujoco-hose-growing", {"hose_n": 0.1, "hose_n_per_m": 4.0}, "tether.growing",
+     ["tether.growing", "tether.constant"],
+     {"effect.tether_force_n": 0.1, "effect.tether_stiffness_n_per_m": 4.0}, 303),
+    ("mujoco-drag", {"drag_n_s_per_m": 1.5}, "friction.viscous", ["friction.viscous"],
+     {"effect.drag_n_s_per_m": 1.5}, 304),
+    ("mujoco-lag", {"actuator_lag_s": 0.06}, "actuator.lag", ["actuator.lag", "actuator.delay"],
+     {"effect.actuator_lag_s": 0.06}, 305),
+    ("mujoco-weak", {"force_scale": 0.75}, "actuator.force_scale", ["actuator.force_scale"],
+     {"actuators.force_n": 0.75 * 8.8}, 306),
+    ("mujoco-slope", {"slope_rad": 0.08}, "ground.slope", ["ground.slope"],
+     {"effect.slope_rad": 0.08}, 307),
+]
+BUILDS = {"rig2d": (CASES, "foreign", "bench/diagnosis/rig2d.py"),
+          "mujoco": (MUJOCO_CASES, "foreign-mujoco", "bench/independent/caterpillar_mujoco.cc")}
+
+
+def simulate(build, genes, effects):
+    """(times, markers[run, sample, lump, (x, z)]) of one gait under each effects dict."""
+    if build == "rig2d":
+        return rig2d.simulate(genes, effects, settle=make_cases.SETTLE, cycles=make_cases.CYCLES,
+                              rate_hz=make_cases.RATE_HZ)
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, e in enumerate(effects):
+            path = os.path.join(tmp, f"{k}.csv")
+            mujoco_caterpillar.record(path, genes, e, settle=make_cases.SETTLE,
+                                      cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+            a = np.genfromtxt(path, delimiter=",", names=True)
+            runs.append(np.stack([np.stack([a[f"m{i}x"], a[f"m{i}z"]], axis=1)
+                                  for i in range(1, 7)], axis=1))
+            times = a["t"]
+    return times, np.array(runs)
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=os.path.join(make_cases.ROOT, "tests", "diagnosis", "foreign"))
+    ap.add_argument("--build", default="rig2d", choices=sorted(BUILDS))
+    ap.add_argument("--out", default="")
     ap.add_argument("--sim", default=make_cases.SIM, help="gaitforge-sim, to check each file")
     ap.add_argument("--cases", default="",
                     help="only these cases, comma separated; the others' files and answers stay "
                          "as they are (a batch of another size may differ in the last bits of "
                          "the chaotic trajectories)")
     args = ap.parse_args()
-    cases = CASES
+    all_cases, folder, rig = BUILDS[args.build]
+    args.out = args.out or os.path.join(make_cases.ROOT, "tests", "diagnosis", folder)
+    cases = all_cases
     answers_path = os.path.join(args.out, "answers.sealed.json")
     if args.cases:
         wanted = args.cases.split(",")
-        unknown = sorted(set(wanted) - {c[0] for c in CASES})
+        unknown = sorted(set(wanted) - {c[0] for c in all_cases})
         if unknown:
             print(f"--cases: unknown case(s) {', '.join(unknown)}; known: "
-                  f"{', '.join(c[0] for c in CASES)}", file=sys.stderr)
+                  f"{', '.join(c[0] for c in all_cases)}", file=sys.stderr)
             return 2
-        cases = [c for c in CASES if c[0] in wanted]
+        cases = [c for c in all_cases if c[0] in wanted]
     make_cases.SOURCE = "independent rig (synthetic stand-in for hardware)"
     make_cases.NOTE = ("gap finder foreign case (tests/diagnosis/foreign); generated by "
                        "bench/diagnosis/make_foreign_cases.py")
@@ -90,8 +140,7 @@ def main():
         for gi, (g, text) in enumerate(make_cases.GAITS.items()):
             genes = [float(x) for x in text.split(",")]
             t0 = time.time()
-            times, markers = rig2d.simulate(genes, [c[1] for c in cases], settle=make_cases.SETTLE,
-                                            cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+            times, markers = simulate(args.build, genes, [c[1] for c in cases])
             print(f"gait {g}: {len(cases)} runs in {time.time() - t0:.0f} s", flush=True)
             split = "train" if g in make_cases.TRAIN else "held_out"
             for ci, (case, _, truth, accept, params, seed) in enumerate(cases):
@@ -106,7 +155,7 @@ def main():
                 make_cases.check(args.sim, os.path.join(case_dir, rel))
                 table.append((case, g, 1000 * make_cases.distance_per_cycle(raw)))
                 a = answers.setdefault(case, {"effect": truth, "accept": accept, "params": params,
-                                              "rig": "bench/diagnosis/rig2d.py",
+                                              "rig": rig,
                                               "rig_effects": cases[ci][1], "files": {}})
                 a["files"][rel] = nuisance
     for case, *_ in cases:
@@ -115,7 +164,7 @@ def main():
                                 "train": [f"train/gait-{g}.csv" for g in make_cases.TRAIN],
                                 "held_out": [f"held_out/gait-{g}.csv" for g in make_cases.HELD_OUT]},
                                indent=2) + "\n")
-    answers = {c[0]: answers[c[0]] for c in CASES if c[0] in answers}
+    answers = {c[0]: answers[c[0]] for c in all_cases if c[0] in answers}
     with open(answers_path, "w") as f:
         f.write(json.dumps(answers, indent=2) + "\n")
     print("distance per cycle (mm) of the clean centroid on the independent rig:")
