@@ -13,12 +13,33 @@
 #include "clients/cli/processes.h"
 #include "gaitforge/v1/diagnosis.grpc.pb.h"
 #include "services/diagnosis/spec.h"
+#include "services/recording/recording.h"
 #include "services/spec/robot_file.h"
 #include "services/spec/spec_loader.h"
 
 namespace gaitforge::cli {
 
 namespace {
+
+// A spec that names no robot diagnoses the robot its first training recording's sidecar
+// names. A stored recording's hash is left to the coordinator, which knows its robot.
+absl::Status InferRobot(const std::string& spec_path, v1::DiagnosisSpec* d) {
+  if (!d->robot().empty() || d->training_size() == 0) return absl::OkStatus();
+  std::filesystem::path csv(d->training(0));
+  if (csv.is_relative()) csv = std::filesystem::path(spec_path).parent_path() / csv;
+  const std::string side = csv.string() + ".json";
+  std::ifstream in(side, std::ios::binary);
+  if (!in) return absl::OkStatus();  // a hash, or a missing file the upload reports
+  std::stringstream text;
+  text << in.rdbuf();
+  auto robot = recording::SidecarRobot(text.str(), side);
+  if (!robot.ok())
+    return absl::InvalidArgumentError(absl::StrCat(
+        "field 'robot' is left out and the first training recording does not name a known "
+        "robot (give 'robot:'): ", robot.status().message()));
+  d->set_robot(*robot);
+  return absl::OkStatus();
+}
 
 // The spec file, parsed, with defaults, checked; an exit code on failure.
 int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d) {
@@ -45,6 +66,11 @@ int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d) {
   }
   d->set_robot(robot);
   d->set_robot_descriptor(descriptor);
+  if (auto s = InferRobot(path, d); !s.ok()) {
+    std::cerr << "gaitforge: " << path << ": " << s.message() << "\n";
+    return kUsage;
+  }
+  if (d->robot().empty()) return kOk;  // recordings by hash: the coordinator fills and checks
   diagnosis::Defaults(d);
   if (auto s = diagnosis::Validate(*d); !s.ok()) {
     std::cerr << "gaitforge: " << path << ": " << s.message() << "\n";

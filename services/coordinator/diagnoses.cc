@@ -95,6 +95,10 @@ absl::Status Diagnoses::Recover() {
 absl::StatusOr<v1::DiagnosisSummary> Diagnoses::Create(v1::DiagnosisSpec spec) {
   if (read_only_)
     return absl::FailedPreconditionError("this coordinator is read-only: it runs no diagnoses");
+  // No robot named: the one the first training recording was recorded of.
+  if (spec.robot().empty() && spec.training_size() > 0)
+    if (auto first = c_.recordings().Get(spec.training(0)); first.ok())
+      spec.set_robot(first->recording().robot());
   diagnosis::Defaults(&spec);
   if (auto s = diagnosis::Validate(spec); !s.ok()) return s;
   if (auto s = c_.recordings().CheckExist(spec.training(), "training"); !s.ok()) return s;

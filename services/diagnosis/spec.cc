@@ -14,6 +14,10 @@
 namespace gaitforge::diagnosis {
 
 absl::Status Validate(const v1::DiagnosisSpec& d) {
+  if (d.robot().empty())
+    return absl::InvalidArgumentError(
+        "field 'robot': required: the robot the recordings are of, a built-in name or a "
+        "descriptor file (left out, it is read from the first training recording's sidecar)");
   auto robot = RobotOf(d);
   if (!robot.ok() && !d.robot_descriptor().empty())
     return absl::InvalidArgumentError(absl::StrCat("field 'robot': ", robot.status().message()));
@@ -78,7 +82,6 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
 
 void Defaults(v1::DiagnosisSpec* d) {
   if (d->name().empty()) d->set_name("diagnosis");
-  if (d->robot().empty()) d->set_robot("caterpillar");
   if (!d->has_time_offset_range_s()) d->set_time_offset_range_s(0.05);
   if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
   if (!d->has_full_evaluations()) d->set_full_evaluations(480);

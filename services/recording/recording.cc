@@ -400,6 +400,15 @@ int Recording::ChannelIndex(std::string_view name) const {
   return -1;
 }
 
+absl::StatusOr<std::string> SidecarRobot(std::string_view sidecar, const std::string& sidecar_name,
+                                         const robots::RobotDescriptor* robot) {
+  std::optional<internal::RobotInfo> given;
+  if (robot) given = internal::InfoOf(*robot);
+  auto side = internal::ParseSidecar(sidecar, sidecar_name, given ? &*given : nullptr);
+  if (!side.ok()) return side.status();
+  return side->meta.robot;
+}
+
 absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view sidecar,
                                          const std::string& csv_name,
                                          const std::string& sidecar_name,

@@ -67,6 +67,11 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
                                          const RecordingLimits& limits = {},
                                          const robots::RobotDescriptor* robot = nullptr);
 
+// The robot a sidecar names (its "robot"), checked as ParseRecording checks it: a built-in
+// robot, or `robot` when given. Errors name the sidecar, line and column.
+absl::StatusOr<std::string> SidecarRobot(std::string_view sidecar, const std::string& sidecar_name,
+                                         const robots::RobotDescriptor* robot = nullptr);
+
 // Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
 std::string ContentHash(std::string_view csv, std::string_view sidecar);
 

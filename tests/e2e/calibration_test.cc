@@ -181,6 +181,22 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
   }
 }
 
+// A spec that names no robot diagnoses the robot its first training recording names (the
+// interrupted diagnosis below runs so); a recording naming an unknown robot is refused
+// before anything runs, naming its sidecar.
+TEST(Diagnose, ASpecWithoutARobotTakesItFromItsRecordingOrSaysWhy) {
+  TempDir dir;
+  WriteFile(dir.File("a.csv"), "t,m1.x\n0,0\n0.01,0\n");
+  WriteFile(dir.File("a.csv.json"), "{\"robot\": \"blimp\", \"command\": {\"kind\": \"gait\", "
+                                    "\"genes\": [0.5]}}\n");
+  WriteFile(dir.File("d.yaml"), "name: d\ntraining: [a.csv]\nheld_out: [a.csv]\n");
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " diagnose d.yaml");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("field 'robot' is left out"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("a.csv.json:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("blimp"), std::string::npos) << r.err;
+}
+
 // A diagnosis interrupted by kill -9 and run again reuses the fits already in its database
 // (same spec and seed: same result), creates no duplicate study, and reaches exactly the
 // report of an uninterrupted run.

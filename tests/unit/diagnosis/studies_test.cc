@@ -128,6 +128,20 @@ TEST(RunFits, StopsWhenTheReporterSaysSoAndReportsProgress) {
   EXPECT_EQ(reports, 1);
 }
 
+// No robot is assumed: a spec without one (whose recordings did not give one either) is
+// refused saying where the robot comes from.
+TEST(DiagnosisSpec, ASpecWithoutARobotIsRefusedSayingWhereItComesFrom) {
+  v1::DiagnosisSpec d = Spec();
+  d.clear_robot();
+  d.clear_candidates();
+  Defaults(&d);
+  EXPECT_TRUE(d.robot().empty());
+  EXPECT_EQ(d.candidates_size(), 0);
+  const absl::Status s = Validate(d);
+  EXPECT_NE(s.message().find("field 'robot': required"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("first training recording"), std::string::npos) << s;
+}
+
 TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOnes) {
   v1::DiagnosisSpec d = Spec();
   d.set_robot("twobox");

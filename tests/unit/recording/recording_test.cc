@@ -207,6 +207,18 @@ TEST(RecordingTest, CrlfBomAndTrailingNewlinesAccepted) {
             "command, source, note, channels)");
 }
 
+// The robot a sidecar names, checked as the parser checks it (a diagnosis spec that names
+// no robot takes it from here).
+TEST(RecordingTest, SidecarRobotIsTheRobotItNamesOrAnErrorWithItsPlace) {
+  auto robot = SidecarRobot(MinimalSidecar(), "a.csv.json");
+  ASSERT_TRUE(robot.ok()) << robot.status();
+  EXPECT_EQ(*robot, "caterpillar");
+  auto blimp = SidecarRobot(Replace(MinimalSidecar(), "caterpillar", "blimp"), "b.csv.json");
+  ASSERT_FALSE(blimp.ok());
+  EXPECT_NE(blimp.status().message().find("b.csv.json:2:"), std::string::npos) << blimp.status();
+  EXPECT_NE(blimp.status().message().find("blimp"), std::string::npos) << blimp.status();
+}
+
 TEST(RecordingTest, NumberForms) {
   auto r = ParseRecording("t,m1.x\n0,1e-3\n1e-2,+2.5E+1\n.02,-.5\n0.03,5.\n0.04,-0\n0.05,1e-400\n",
                           MinimalSidecar(), "n.csv", "n.json");
