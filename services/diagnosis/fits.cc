@@ -101,6 +101,18 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
   return c;
 }
 
+v1::DiagnosisSpec WithStructure(const v1::DiagnosisSpec& d, const Candidate& c) {
+  v1::DiagnosisSpec out = d;
+  if (c.effects.size() != 1) return out;
+  const std::string& id = c.effects[0];
+  for (size_t i = 0; i < c.genes.size() && i < c.gene_effect.size(); ++i)
+    if (c.gene_effect[i] == id) *out.add_base_parameters() = c.genes[i];
+  out.clear_candidates();
+  for (const auto& other : d.candidates())
+    if (other != id) out.add_candidates(other);
+  return out;
+}
+
 std::string CalibrationObjective(const v1::DiagnosisSpec& d) {
   if (d.robot_descriptor().empty())
     for (const auto& o : core::ObjectiveCatalog())

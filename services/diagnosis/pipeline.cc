@@ -16,6 +16,7 @@
 #include "services/diagnosis/locate.h"
 #include "services/diagnosis/run_state.h"
 #include "services/recording/recording.h"
+#include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
 namespace {
@@ -66,16 +67,10 @@ absl::Status Weigh(RunState& s) {
   return absl::OkStatus();
 }
 
-// 1. The baseline, its noise floor, and 2. where its residuals show the mismatch, on the
-// training recordings and on the held-out ones (if not there, they cannot confirm).
-absl::Status Baseline(RunState& s) {
-  s.base = Make(s.d, {});
-  std::vector<Candidate*> one = {&s.base};
-  if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
-                        "baseline", &s.reused);
-      !st.ok())
-    return st;
-  if (!s.base.ok) return absl::FailedPreconditionError("the baseline fit failed: " + s.base.reason);
+// The baseline's held-out errors, its noise floor and where its residuals show the
+// mismatch, on the training recordings and on the held-out ones (if not there, they
+// cannot confirm).
+void ScoreBase(RunState& s) {
   s.base.bic = s.Bic(s.base);
   ScoreHeldOut(s.base, s.in.held_files, s.d, s.in.dir + "/baseline-held");  // kept: located
   double sq = 0;
@@ -85,6 +80,65 @@ absl::Status Baseline(RunState& s) {
                      s.in.dir, "baseline-train", "located.json", "located.svg", s.r.note);
   s.located_held =
       Locate(s.base.held_variants, s.in.dir, "baseline-held", "located-held.json", "", s.r.note);
+}
+
+// 1. The baseline, and 2. where it misses.
+absl::Status Baseline(RunState& s) {
+  s.base = Make(s.d, {});
+  std::vector<Candidate*> one = {&s.base};
+  if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
+                        "baseline", &s.reused);
+      !st.ok())
+    return st;
+  if (!s.base.ok) return absl::FailedPreconditionError("the baseline fit failed: " + s.base.reason);
+  ScoreBase(s);
+  return absl::OkStatus();
+}
+
+// 2b. Structure first (structure: first): the candidates that say what the model gets
+// wrong everywhere (effects::IsStructural) are screened, the best refitted fully, and if
+// it beats the baseline as a discovery must (decision.h) it becomes the baseline: its
+// parameters join the base parameters of every later fit and it leaves the candidates, so
+// that the effects compete for what remains instead of with the structure.
+absl::Status Structure(RunState& s) {
+  if (s.d.structure() != "first") return absl::OkStatus();
+  std::vector<Candidate> tried;
+  for (const auto& id : s.d.candidates())
+    if (effects::IsStructural(id)) tried.push_back(Make(s.d, {id}));
+  std::vector<Candidate*> ptrs;
+  for (auto& c : tried) ptrs.push_back(&c);
+  if (ptrs.empty()) return absl::OkStatus();
+  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
+                        "structure", &s.reused);
+      !st.ok())
+    return st;
+  const Candidate* lead = nullptr;
+  for (const auto& c : tried)
+    if (c.ok && (!lead || c.train < lead->train)) lead = &c;
+  if (!lead) return absl::OkStatus();
+  Candidate best = Make(s.d, lead->effects);
+  std::vector<Candidate*> one = {&best};
+  if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
+                        "structure", &s.reused);
+      !st.ok())
+    return st;
+  if (!best.ok) return absl::OkStatus();
+  best.bic = s.Bic(best);
+  ScoreHeldOut(best, s.in.held_files, s.d);
+  s.rule.margin = s.d.margin();
+  if (!BeatsBaseline(s.base, best, s.rule)) {
+    s.r.note("structure: none required (the best, " + best.label + ", does not beat the baseline)");
+    return absl::OkStatus();
+  }
+  s.r.note("structure: " + best.label + " joins the baseline");
+  s.bic_before_structure = s.base.bic;
+  s.structure = best;
+  s.d = WithStructure(s.d, best);
+  s.base = best;
+  s.base.effects.clear();
+  s.base.gene_effect.assign(s.base.genes.size(), "");
+  s.base.label = "baseline";
+  ScoreBase(s);
   return absl::OkStatus();
 }
 
@@ -213,7 +267,7 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
   std::error_code ec;
   std::filesystem::create_directories(in.dir, ec);
   RunState s(d, in, studies, r);
-  for (auto stage : {CountSamples, Weigh, Baseline, Screen, Refit})
+  for (auto stage : {CountSamples, Weigh, Baseline, Structure, Screen, Refit})
     if (auto st = stage(s); !st.ok()) return st;
   DecideStage(s);
   WriteCorrected(s);

@@ -106,6 +106,24 @@ std::string Effect(const RunState& s, const Candidate& c) {
   return j + "}";
 }
 
+// The structure that joined the baseline (structure: first), or null: what the model got
+// wrong everywhere, reported beside the effects found on top of it.
+std::string Structure(const RunState& s) {
+  const Candidate& c = s.structure;
+  if (c.effects.empty()) return "null";
+  std::vector<std::string> names, meanings;
+  for (const auto& e : Infos(s, c)) {
+    names.push_back(e.name);
+    meanings.push_back(e.meaning);
+  }
+  return absl::StrCat("{\"id\": ", JsonQuote(c.label), ", \"name\": ",
+                      JsonQuote(absl::StrJoin(names, " + ")), ", \"meaning\": ",
+                      JsonQuote(absl::StrJoin(meanings, " ")), ", \"params\": ", Params(s, c),
+                      ", \"train\": ", Num(c.train), ", \"held_out\": ", Num(c.held),
+                      ", \"delta_bic\": ", Num(c.bic - s.bic_before_structure),
+                      ", \"study_id\": ", JsonQuote(c.study_id), "}");
+}
+
 std::string Errors(const RunState& s) {
   std::string j = absl::StrCat(
       "{\"baseline_train\": ", Num(s.base.train), ", \"baseline_held_out\": ", Num(s.base.held),
@@ -173,7 +191,7 @@ std::string WriteReport(RunState& s) {
       absl::StrJoin(runners, ", "), "], \"screening\": [", absl::StrJoin(screened, ", "),
       "], \"top\": ", s.d.top(), ", \"screening_tie\": ", Num(s.d.screening_tie()),
       ", \"refitted_singles\": ", s.singles, ", \"reused_fits\": ", s.reused,
-      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id));
+      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"structure\": ", Structure(s));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",
                   JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train)),

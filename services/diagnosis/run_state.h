@@ -20,7 +20,7 @@ namespace gaitforge::diagnosis {
 struct RunState {
   RunState(const v1::DiagnosisSpec& spec, const Inputs& inputs, Studies& s, const Reporter& rep)
       : d(spec), in(inputs), studies(s), r(rep) {}
-  const v1::DiagnosisSpec& d;
+  v1::DiagnosisSpec d;  // a copy: the structure-first stage moves a structure into the base
   const Inputs& in;
   Studies& studies;
   const Reporter& r;
@@ -32,6 +32,10 @@ struct RunState {
   int reused = 0;  // fits found in the database with the same spec, not run again
 
   Candidate base;
+  // structure: first: the structural fit that became the baseline (its effects name it;
+  // none: no structure was required), and the baseline's BIC before it.
+  Candidate structure;
+  double bic_before_structure = NAN;
   double floor_sd = 0;  // spread of the baseline's held-out error over the variants
   std::string located = "{}", located_held = "{}";
   std::vector<Candidate> screened, full;

@@ -12,8 +12,24 @@
 #include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
+namespace {
+
+// The index of the first base parameter that `e` also fits, or -1.
+int SharedWithBase(const effects::EffectInfo& e, const v1::DiagnosisSpec& d) {
+  for (int i = 0; i < d.base_parameters_size(); ++i)
+    for (const auto& p : e.params)
+      if (p.name == d.base_parameters(i).name()) return i;
+  return -1;
+}
+
+}  // namespace
 
 absl::Status Validate(const v1::DiagnosisSpec& d) {
+  if (d.training_size() == 0)
+    return absl::InvalidArgumentError("field 'training': at least one recording is required");
+  if (d.held_out_size() == 0)
+    return absl::InvalidArgumentError(
+        "field 'held_out': at least one recording is required (decisions rest on it)");
   if (d.robot().empty())
     return absl::InvalidArgumentError(
         "field 'robot': required: the robot the recordings are of, a built-in name or a "
@@ -32,11 +48,6 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
         absl::StrJoin(known, ", "),
         "; or a descriptor file of a robot on the generic builder, docs/robots.md)"));
   }
-  if (d.training_size() == 0)
-    return absl::InvalidArgumentError("field 'training': at least one recording is required");
-  if (d.held_out_size() == 0)
-    return absl::InvalidArgumentError(
-        "field 'held_out': at least one recording is required (decisions rest on it)");
   for (const auto& suspect : (*robot)->suspects)
     if (effects::FindEffect(suspect.id))
       return absl::InvalidArgumentError(absl::StrCat(
@@ -53,6 +64,11 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
       return absl::InvalidArgumentError(absl::StrCat("field 'candidates[", i, "]': '",
                                                      d.candidates(i), "' cannot be fitted on ",
                                                      (*robot)->name, ": ", why));
+    if (int b = SharedWithBase(*e, d); b >= 0)
+      return absl::InvalidArgumentError(absl::StrCat(
+          "field 'candidates[", i, "]': '", d.candidates(i), "' fits ",
+          d.base_parameters(b).name(), ", which base_parameters[", b,
+          "] fits in every study already; leave one of them out"));
   }
   for (int i = 0; i < d.base_parameters_size(); ++i) {
     const auto& b = d.base_parameters(i);
@@ -74,6 +90,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
     return absl::InvalidArgumentError("field 'screening_tie': out of range [0, 0.2]");
   if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
     return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
+  if (d.structure() != "off" && d.structure() != "first")
+    return absl::InvalidArgumentError(absl::StrCat("field 'structure': '", d.structure(),
+                                                   "' is not one of off, first"));
   if (d.weighting() != "equal" && d.weighting() != "floor")
     return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
                                                    "' is not one of equal, floor"));
@@ -90,11 +109,13 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_try_pairs()) d->set_try_pairs(true);
   if (d->error().empty()) d->set_error("shape");
   if (d->weighting().empty()) d->set_weighting("floor");
+  if (d->structure().empty()) d->set_structure("off");
   if (!d->has_margin()) d->set_margin(10);
   auto robot = RobotOf(*d);
   if (d->candidates_size() == 0 && robot.ok())
     for (const auto& e : effects::EffectsFor(**robot))
-      if (effects::WhyNotApplicable(e, **robot).empty()) d->add_candidates(e.id);
+      if (effects::WhyNotApplicable(e, **robot).empty() && SharedWithBase(e, *d) < 0)
+        d->add_candidates(e.id);
 }
 
 }  // namespace gaitforge::diagnosis

@@ -91,6 +91,13 @@ std::string Verdict(const Struct& r) {
   const Struct& rule = O(r, "rule");
   const std::string experiment = S(r, "experiment");
   std::string out;
+  if (Field(r, "structure").kind_case() == Value::kStructValue) {
+    const Struct& st = O(r, "structure");
+    absl::StrAppend(&out, absl::StrFormat("the model's structure: %s, fitted into the baseline "
+                                          "(delta BIC %.1f); effects were sought on top of it\n",
+                                          S(st, "id"), N(st, "delta_bic")),
+                    Named(st));
+  }
   if (S(r, "verdict") == "none") {
     absl::StrAppend(
         &out, absl::StrFormat(

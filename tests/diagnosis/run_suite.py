@@ -118,7 +118,7 @@ def score(result, answer):
     # exact: the effect alone, not inside a pair.
     exact = truth != "none" and verdict == "found" and named[0] in accept
     s = {"case": result["case"], "truth": truth, "predicted": predicted, "correct": correct,
-         "exact": exact,
+         "exact": exact, "structure": (result.get("structure") or {}).get("id", ""),
          "wall_seconds": round(result["wall_seconds"], 1)}
     # Where it showed: does the baseline miss beyond the noise and its numeric spread?
     # (located.beyond_spread, since session 10; None in older results.)
@@ -201,6 +201,9 @@ def main():
     ap.add_argument("--weighting", default="", choices=["", "equal", "floor"],
                     help="the spec's weighting of the training recordings (default: the "
                          "diagnosis's own default)")
+    ap.add_argument("--structure", default="", choices=["", "off", "first"],
+                    help="the spec's structure stage (docs/diagnosis.md, \"Structure first\"; "
+                         "default: the diagnosis's own default)")
     ap.add_argument("--rescore", default="",
                     help="score stored diagnoses instead of running: --json-out files of earlier "
                          "runs, comma separated (their cases in this suite's answers)")
@@ -214,8 +217,9 @@ def main():
         if a.cases:
             results = [r for r in results if r["case"] in cases]
     else:
+        extra = f"structure: {a.structure}\n" if a.structure else ""
         results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
-                            a.weighting) for c in cases]
+                            a.weighting, extra) for c in cases]
     # Only now: the answers.
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answers = json.load(f)
@@ -239,12 +243,13 @@ def main():
                "median_held_out_reduction": reds[len(reds) // 2] if reds else None,
                "range_coverage": sum(covered) / len(covered) if covered else None,
                "wall_seconds": round(total, 1), "confusion": confusion(scores, answers)}
-    print(f"{'case':14s} {'truth':22s} {'predicted':34s} {'ok':3s} {'|mag err|':>9s} {'held-out':>9s} {'s':>6s}")
+    print(f"{'case':14s} {'truth':22s} {'predicted':34s} {'ok':3s} {'|mag err|':>9s} {'held-out':>9s} "
+          f"{'s':>6s}  structure")
     for s in scores:
         mag = f"{100 * s['magnitude_relative_error']:.0f}%" if "magnitude_relative_error" in s else "-"
         red = f"-{100 * s['held_out_reduction']:.0f}%" if "held_out_reduction" in s else "-"
         print(f"{s['case']:14s} {s['truth']:22s} {s['predicted']:34s} {'yes' if s['correct'] else 'NO':3s} "
-              f"{mag:>9s} {red:>9s} {s.get('wall_seconds', 0):6.0f}")
+              f"{mag:>9s} {red:>9s} {s.get('wall_seconds', 0):6.0f}  {s.get('structure', '')}")
     print_confusion(summary["confusion"])
     print(f"top-1 correct-effect rate {top1} (alone, not in a pair: {exact}), "
           f"false-discovery rate on nulls {fdr}, "

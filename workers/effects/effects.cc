@@ -1,6 +1,7 @@
 #include "workers/effects/effects.h"
 
 #include <algorithm>
+#include <set>
 
 namespace gaitforge::effects {
 
@@ -215,6 +216,13 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "with the stroke rate, a stiffness error does not."},
   };
   return catalog;
+}
+
+bool IsStructural(std::string_view id) {
+  static const std::set<std::string_view> structural = {
+      "friction.anisotropic", "contact.softness", "model.resolution",
+      "damping.scale",        "stiffness.scale",  "mass.offset"};
+  return structural.count(id) > 0;
 }
 
 const EffectInfo* FindEffect(std::string_view id) {

@@ -70,6 +70,11 @@ std::optional<EffectInfo> FindEffect(std::string_view id, const robots::RobotDes
 // Whether robot d has the part (kParts) and a model that attaches effects to it (generic).
 bool HasPart(const robots::RobotDescriptor& d, std::string_view part);
 
+// True for the effects that say what a model gets wrong everywhere rather than what it
+// left out: its contact and friction law, resolution, damping, stiffness, mass. The gap
+// finder's structure-first stage (docs/diagnosis.md) fits them before any other effect.
+bool IsStructural(std::string_view id);
+
 // "" when every parameter of `e` is one robot d's model takes: a calibratable name of its
 // descriptor, or a builder effect's parameter on a part d has; otherwise why not, in words.
 std::string WhyNotApplicable(const EffectInfo& e, const robots::RobotDescriptor& d);

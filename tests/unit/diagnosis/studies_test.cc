@@ -13,6 +13,7 @@
 #include "services/diagnosis/fits.h"
 #include "services/diagnosis/spec.h"
 #include "services/spec/spec_validation.h"
+#include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
 namespace {
@@ -167,6 +168,63 @@ TEST(NumericsNote, CautionsOnlyWhenAVariantCutsTheErrorBeyondTheShare) {
   EXPECT_EQ(NumericsNote(variants, {0.0033, 0.0029, 0.0031}), "");  // within 20%
   EXPECT_EQ(NumericsNote(variants, {}), "");                        // not measured
   EXPECT_EQ(NumericsNote(variants, {0.0033, 0.0018}), "");          // does not match
+}
+
+// An effect whose parameter is a base parameter would be fitted twice: the default
+// candidates leave it out, and a spec that lists it is refused naming both fields.
+TEST(DiagnosisSpec, ACandidateThatFitsABaseParameterIsLeftOutOrRefused) {
+  v1::DiagnosisSpec d = Spec();
+  d.clear_candidates();
+  auto* b = d.add_base_parameters();
+  b->set_name("effect.friction_forward");
+  b->set_lo(0);
+  b->set_hi(3);
+  Defaults(&d);
+  ASSERT_GT(d.candidates_size(), 3);
+  for (const auto& c : d.candidates()) EXPECT_NE(c, "friction.anisotropic");
+  ASSERT_TRUE(Validate(d).ok()) << Validate(d);
+  d.add_candidates("friction.anisotropic");
+  const absl::Status s = Validate(d);
+  EXPECT_NE(s.message().find("'friction.anisotropic' fits effect.friction_forward, which "
+                             "base_parameters[0] fits"),
+            std::string::npos)
+      << s;
+}
+
+// Structure first: a structural fit moved into the base model fits its parameters as base
+// parameters (same bounds, same order as in its own fit), and leaves the candidates; every
+// later candidate then fits it too.
+TEST(DiagnosisSpec, AStructureMovedIntoTheBaseIsFittedEverywhereAndNoLongerACandidate) {
+  v1::DiagnosisSpec d = Spec();
+  ASSERT_TRUE(std::count(d.candidates().begin(), d.candidates().end(), "friction.anisotropic"));
+  const Candidate structure = Make(d, {"friction.anisotropic"});
+  const v1::DiagnosisSpec moved = WithStructure(d, structure);
+  ASSERT_EQ(moved.base_parameters_size(), 2);
+  EXPECT_EQ(moved.base_parameters(0).name(), "effect.friction_forward");
+  EXPECT_EQ(moved.base_parameters(1).name(), "effect.friction_backward");
+  EXPECT_EQ(moved.base_parameters(1).hi(), 3);
+  EXPECT_EQ(moved.candidates_size(), d.candidates_size() - 1);
+  EXPECT_FALSE(std::count(moved.candidates().begin(), moved.candidates().end(),
+                          "friction.anisotropic"));
+  EXPECT_TRUE(Validate(moved).ok()) << Validate(moved);
+  // The new baseline has the structure's genes in the structure's own fit's order.
+  const Candidate base = Make(moved, {});
+  ASSERT_EQ(base.genes.size(), structure.genes.size());
+  for (size_t i = 0; i < base.genes.size(); ++i) EXPECT_EQ(base.genes[i].name(), structure.genes[i].name());
+  const Candidate hose = Make(moved, {"tether.constant"});
+  EXPECT_EQ(hose.genes[0].name(), "effect.friction_forward");
+  EXPECT_EQ(hose.k, base.k + 1);
+  EXPECT_TRUE(effects::IsStructural("friction.anisotropic"));
+  EXPECT_FALSE(effects::IsStructural("tether.constant"));
+}
+
+TEST(DiagnosisSpec, StructureIsOffByDefaultAndOneOfOffOrFirst) {
+  v1::DiagnosisSpec d = Spec();
+  EXPECT_EQ(d.structure(), "off");
+  d.set_structure("later");
+  EXPECT_NE(Validate(d).message().find("field 'structure': 'later' is not one of off, first"),
+            std::string::npos)
+      << Validate(d);
 }
 
 // A robot's own suspects (its descriptor's `suspects:`) are candidates beside the catalog's

@@ -56,6 +56,27 @@ TEST(ReportWords, NoneSaysWhatTheRuleAskedAndWhatTheSpreadMeans) {
   EXPECT_NE(w->find("matches within its numeric spread"), std::string::npos) << *w;
 }
 
+// Structure first: the structure fitted into the baseline comes before the effect found
+// on top of it, with its own magnitudes; "structure": null says nothing.
+TEST(ReportWords, AStructureInTheBaselineIsSaidBeforeTheEffectOnTopOfIt) {
+  std::string report = kFound;
+  report.insert(report.find("\"effects\""),
+                R"("structure": {"id": "friction.anisotropic", "name": "Finite friction",
+   "meaning": "Feet that slip.", "params": {"effect.friction_forward": {"index": 0,
+   "value": 0.8, "lo": 0, "hi": 3}}, "train": 0.001, "held_out": 0.0012, "delta_bic": -812},
+ )");
+  auto w = ReportWords(report);
+  ASSERT_TRUE(w.ok()) << w.status();
+  const size_t structure = w->find("the model's structure: friction.anisotropic, fitted into "
+                                   "the baseline (delta BIC -812.0)");
+  ASSERT_NE(structure, std::string::npos) << *w;
+  EXPECT_LT(structure, w->find("found tether.constant")) << *w;
+  EXPECT_LT(structure, w->find("effect.friction_forward")) << *w;
+  auto without = ReportWords(std::string(kFound).insert(1, R"("structure": null, )"));
+  ASSERT_TRUE(without.ok()) << without.status();
+  EXPECT_EQ(without->find("structure"), std::string::npos) << *without;
+}
+
 TEST(ReportWords, NotJsonIsAnErrorSayingSo) {
   auto w = ReportWords("{verdict");
   ASSERT_FALSE(w.ok());
