@@ -2,21 +2,28 @@
 """Transfer benchmark (issue 26): do evolved gaits walk on a build of the robot they were
 not evolved on?
 
-Evolves the caterpillar's 13-gene gait three ways through the real CLI (`gaitforge local`,
-2 workers, SQLite files): with the paper's fitness; with robust evaluation (the gap
-finder's six numeric variants, several cycles, mean - k sd) for the same number of
-generations; and with the paper's fitness for the robust study's budget of simulations
-(six times the generations: one simulation per genotype against six). Then
-runs gaits of each study on an independent build, bench/diagnosis/rig2d.py (another body
-discretisation, contact law and integrator; docs/diagnosis.md), with nothing concealed and
-with a concealed hose. For each study and set (the 20 best distinct gaits of the whole
-study; 20 distinct gaits spread over the final population's ranks) it prints the ratio of
-achieved to predicted travel (sums over the set; predicted = the study's fitness, or for
-the robust study the ensemble mean, robust.mean), the Spearman rank correlation of
-predicted and achieved travel, and the best gait's achieved travel.
+Evolves the caterpillar's 13-gene gait through the real CLI (`gaitforge local`, 2 workers,
+SQLite files): with the paper's fitness; with robust evaluation (the gap finder's six
+numeric variants, several cycles, mean - k sd) for the same number of generations; and with
+the paper's fitness for the robust study's budget of simulations (six times the
+generations: one simulation per genotype against six). Then runs gaits of each study on two
+independent builds, bench/diagnosis/rig2d.py (sub-lumps, penalty contact, 50 us Euler) and
+bench/independent/caterpillar_mujoco.cc (MuJoCo: generalised coordinates, soft convex
+contact, tendon pistons), with nothing concealed and with concealed hoses.
+
+--diagnose closes the loop on each build: three gaits recorded on the build with the strong
+hose concealed (make_cases.GAITS: two for training, one held out), `gaitforge diagnose` on
+them, and a robust study started from that diagnosis (`objective.from_diagnosis`); its
+gaits are measured on that build and hose only, the robot it was corrected for.
+
+For each study and set (the 20 best distinct gaits of the whole study; 20 distinct gaits
+spread over the final population's ranks) it prints the ratio of achieved to predicted
+travel (sums over the set; predicted = the study's fitness, or for a robust study the
+ensemble mean, robust.mean), the Spearman rank correlation of predicted and achieved
+travel, and the best gait's achieved travel.
 
     /usr/bin/python3 bench/transfer.py [--bin build/bin] [--population 100]
-        [--generations 30] [--quick]
+        [--generations 30] [--builds rig2d,mujoco] [--diagnose] [--quick]
 
 Prints a table and writes transfer.json in --out. --quick: a smoke run (small studies,
 few gaits) to check the pipeline, not a measurement.
@@ -35,16 +42,23 @@ from scipy.stats import spearmanr
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "diagnosis"))
+import make_cases  # noqa: E402  (the gap finder's recording gaits and lengths)
+import mujoco_caterpillar  # noqa: E402
 import rig2d  # noqa: E402
 
 ROBUST_MEMBERS = 6  # numerics: [standard] on the caterpillar
-SCENARIOS = {"nothing concealed": {}, "hose 0.05 N + 0.5 N/m": {"hose_n": 0.05, "hose_n_per_m": 0.5}}
+BUILDS = {"rig2d": rig2d, "mujoco": mujoco_caterpillar}
+STRONG_HOSE = "hose 0.4 N"
+SCENARIOS = {"nothing concealed": {}, "hose 0.05 N + 0.5 N/m": {"hose_n": 0.05, "hose_n_per_m": 0.5},
+             STRONG_HOSE: {"hose_n": 0.4}}
 
 
-def spec(name, population, generations, robust):
+def spec(name, population, generations, robust, diagnosis=""):
     text = (f"name: {name}\nseed: 1\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
+    if diagnosis:
+        text += f"  from_diagnosis: {diagnosis}\n"
     if not robust:
         return text + "  params: {cycles: 1, settle_cycles: 2}\n"
     return text + ("  params: {cycles: 2, settle_cycles: 1}\n"
@@ -52,13 +66,14 @@ def spec(name, population, generations, robust):
                    "    statistic: mean_minus_sd\n    k: 0.5\n")
 
 
-def evolve(args, name, generations, robust):
-    db = os.path.join(args.out, f"{name}.db")
-    if os.path.exists(db):
-        os.remove(db)
+def evolve(args, name, generations, robust, db=None, diagnosis=""):
+    if db is None:
+        db = os.path.join(args.out, f"{name}.db")
+        if os.path.exists(db):
+            os.remove(db)
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
-        f.write(spec(name, args.population, generations, robust))
+        f.write(spec(name, args.population, generations, robust, diagnosis))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -80,20 +95,23 @@ def same_gait(a, b):
     return all(min(abs(x - d[0]), 1 - abs(x - d[0])) < 1e-9 for x in d)
 
 
-def individuals(db, robust):
-    """(generation, fitness, predicted, genes) of every valid individual evaluated."""
+def individuals(db, robust, study):
+    """(generation, fitness, predicted, genes) of every valid individual the study named
+    `study` evaluated, and (fitness, predicted, genes) of its final population."""
     con = sqlite3.connect(db)
+    sid = con.execute("SELECT study_id FROM studies WHERE name = ?", (study,)).fetchone()[0]
     rows = con.execute("SELECT generation, member, genes, fitness FROM individuals "
-                       "WHERE valid = 1 AND carried = 0").fetchall()
+                       "WHERE study_id = ? AND valid = 1 AND carried = 0", (sid,)).fetchall()
     mean = dict(((g, m), v) for g, m, v in con.execute(
-        "SELECT generation, member, value FROM metrics WHERE name = 'robust.mean'"))
+        "SELECT generation, member, value FROM metrics WHERE study_id = ? AND name = 'robust.mean'",
+        (sid,)))
     out = []
     for g, m, blob, fit in rows:
         out.append((g, fit, mean.get((g, m), fit) if robust else fit, genes_of(blob)))
-    last = con.execute("SELECT MAX(generation) FROM individuals").fetchone()[0]
+    last = con.execute("SELECT MAX(generation) FROM individuals WHERE study_id = ?", (sid,)).fetchone()[0]
     final = [(fit, mean.get((g, m), fit) if robust else fit, genes_of(blob)) for g, m, blob, fit in
              con.execute("SELECT generation, member, genes, fitness FROM individuals "
-                         "WHERE valid = 1 AND generation = ?", (last,))]
+                         "WHERE study_id = ? AND valid = 1 AND generation = ?", (sid, last))]
     return out, final
 
 
@@ -110,44 +128,106 @@ def distinct(ranked, n, every=1):
     return chosen
 
 
-def gait_sets(db, robust, n):
-    every, final = individuals(db, robust)
+def gait_sets(db, robust, n, study):
+    every, final = individuals(db, robust, study)
     best = distinct(sorted(every, key=lambda r: -r[1]), n)
     final.sort(key=lambda r: -r[0])
     spread = distinct(final, n, every=max(1, len(final) // n))
     return {"best": [(p, g) for _, _, p, g in best], "spread": [(p, g) for _, p, g in spread]}
 
 
-def measure(sets, cycles):
-    """Achieved travel per cycle on rig2d for every gait of every set, every scenario, in
-    one batch."""
-    runs = [(study, kind, i, scen) for study in sets for kind in sets[study]
-            for i in range(len(sets[study][kind])) for scen in SCENARIOS]
-    genes = [sets[s][k][i][1] for s, k, i, _ in runs]
-    effects = [SCENARIOS[scen] for _, _, _, scen in runs]
-    achieved = rig2d.travel(genes, effects, settle=1, cycles=cycles)
-    return {run: a for run, a in zip(runs, achieved)}
+def measure(sets, where, cycles):
+    """Achieved travel per cycle of every gait of every set, on every (build, scenario) of
+    where[study], one batch per build."""
+    achieved = {}
+    for build, module in BUILDS.items():
+        runs = [(study, kind, i, scen) for study in sets for kind in sets[study]
+                for i in range(len(sets[study][kind])) for b, scen in where[study] if b == build]
+        if not runs:
+            continue
+        t0 = time.monotonic()
+        genes = [sets[s][k][i][1] for s, k, i, _ in runs]
+        out = module.travel(genes, [SCENARIOS[scen] for *_, scen in runs], settle=1, cycles=cycles)
+        achieved.update({(build,) + run: a for run, a in zip(runs, out)})
+        print(f"{build}: {len(runs)} runs in {time.monotonic() - t0:.0f} s", flush=True)
+    return achieved
 
 
-def table(sets, achieved, walls):
+def record_case(args, build, folder):
+    """The gap finder's three gaits recorded on `build` with the strong hose; returns the
+    diagnosis spec's path."""
+    files = {}
+    for g, text in make_cases.GAITS.items():
+        genes = [float(x) for x in text.split(",")]
+        path = os.path.join(folder, f"gait-{g}.csv")
+        effects = SCENARIOS[STRONG_HOSE]
+        if build == "rig2d":
+            times, markers = rig2d.simulate(genes, [effects], settle=make_cases.SETTLE,
+                                            cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+            rig2d.write_csv(path, times, markers[0])
+        else:
+            mujoco_caterpillar.record(path, genes, effects, settle=make_cases.SETTLE,
+                                      cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+        with open(path + ".json", "w") as f:
+            json.dump({"robot": "caterpillar", "command": {"kind": "gait", "genes": genes}}, f)
+        files[g] = path
+    spec_path = os.path.join(folder, "diagnosis.yaml")
+    with open(spec_path, "w") as f:
+        f.write(f"name: hose-on-{build}\nseed: 1\nrobot: caterpillar\n"
+                f"training: [{', '.join(files[g] for g in make_cases.TRAIN)}]\n"
+                f"held_out: [{', '.join(files[g] for g in make_cases.HELD_OUT)}]\n"
+                f"screening_evaluations: {args.screening}\nfull_evaluations: {args.full}\n")
+    return spec_path
+
+
+def diagnose_and_evolve(args, build):
+    """Diagnoses the strong hose on `build`, then evolves robustly from the diagnosis.
+    Returns (db, wall seconds, what the diagnosis named)."""
+    folder = os.path.join(args.out, f"diagnosis-{build}")
+    os.makedirs(folder, exist_ok=True)
+    db = os.path.join(args.out, f"diagnosed-{build}.db")
+    if os.path.exists(db):
+        os.remove(db)
+    gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
+    t0 = time.monotonic()
+    r = subprocess.run(gf + ["--out", folder, "diagnose", record_case(args, build, folder), "--json",
+                             "--workers", "2"], capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"transfer: diagnosis on {build} failed ({r.returncode}): {r.stderr[-2000:]}")
+    report = json.loads(r.stdout)
+    named = ", ".join(f"{e['id']} {e.get('params', '')}" for e in report.get("effects", []))
+    print(f"diagnosis on {build}: {report['verdict']} {named} ({time.monotonic() - t0:.0f} s)",
+          flush=True)
+    listed = json.loads(subprocess.run(gf + ["diagnoses", "--json"], capture_output=True,
+                                       text=True, check=True).stdout)
+    last = listed["diagnoses"][-1]
+    ident = last.get("diagnosis_id") or last.get("diagnosisId")
+    if report["verdict"] != "found":
+        return None, time.monotonic() - t0, f"{report['verdict']}: nothing to correct"
+    db, wall = evolve(args, f"diagnosed-{build}", args.generations, True, db=db, diagnosis=ident)
+    return db, time.monotonic() - t0, named
+
+
+def table(sets, where, achieved, walls):
     rows = []
     for study in sets:
-        for scen in SCENARIOS:
+        for build, scen in where[study]:
             for kind in ("best", "spread"):
                 pred = np.array([p for p, _ in sets[study][kind]])
-                ach = np.array([achieved[(study, kind, i, scen)] for i in range(len(pred))])
+                ach = np.array([achieved[(build, study, kind, i, scen)] for i in range(len(pred))])
                 ok = np.isfinite(ach)
                 rho = spearmanr(pred[ok], ach[ok]).correlation if ok.sum() > 2 else float("nan")
-                rows.append({"study": study, "scenario": scen, "set": kind, "gaits": int(ok.sum()),
+                rows.append({"study": study, "build": build, "scenario": scen, "set": kind,
+                             "gaits": int(ok.sum()),
                              "predicted_cm": 100 * pred[ok].mean(),
                              "achieved_cm": 100 * ach[ok].mean(),
                              "ratio": ach[ok].sum() / pred[ok].sum(), "spearman": rho,
                              "best_gait_cm": 100 * ach[0] if kind == "best" else float("nan"),
                              "wall_s": walls[study]})
-    print(f"{'study':<14}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
+    print(f"{'study':<18}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
           f"{'ratio':>7}{'rho':>7}{'best cm':>9}{'wall s':>8}")
     for r in rows:
-        print(f"{r['study']:<14}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
+        print(f"{r['study']:<18}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
               f"{r['predicted_cm']:>9.2f}{r['achieved_cm']:>9.2f}{r['ratio']:>7.2f}"
               f"{r['spearman']:>7.2f}{r['best_gait_cm']:>9.2f}{r['wall_s']:>8.0f}")
     return rows
@@ -160,29 +240,45 @@ def main():
     ap.add_argument("--population", type=int, default=100)
     ap.add_argument("--generations", type=int, default=30)
     ap.add_argument("--gaits", type=int, default=20)
-    ap.add_argument("--cycles", type=int, default=4, help="measured cycles on rig2d")
+    ap.add_argument("--cycles", type=int, default=4, help="measured cycles on the builds")
+    ap.add_argument("--builds", default="rig2d,mujoco", help="independent builds, comma separated")
+    ap.add_argument("--diagnose", action="store_true",
+                    help="also diagnose the strong hose on each build and evolve from it")
+    ap.add_argument("--screening", type=int, default=120, help="--diagnose: screening budget")
+    ap.add_argument("--full", type=int, default=480, help="--diagnose: refit budget")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     if args.quick:
         args.population, args.generations, args.gaits, args.cycles = 12, 3, 3, 2
+        args.screening, args.full = 24, 48
+    builds = args.builds.split(",")
+    unknown = sorted(set(builds) - set(BUILDS))
+    if unknown:
+        sys.exit(f"--builds: unknown {', '.join(unknown)}; known: {', '.join(BUILDS)}")
+    for b in set(BUILDS) - set(builds):
+        del BUILDS[b]
     os.makedirs(args.out, exist_ok=True)
-    walls, sets = {}, {}
+    walls, sets, where, named = {}, {}, {}, {}
+    everywhere = [(b, scen) for b in BUILDS for scen in SCENARIOS]
     for name, robust in (("paper", False), ("robust", True)):
         db, walls[name] = evolve(args, name, args.generations, robust)
-        sets[name] = gait_sets(db, robust, args.gaits)
+        sets[name], where[name] = gait_sets(db, robust, args.gaits, name), everywhere
         print(f"{name}: evolved in {walls[name]:.0f} s", flush=True)
     # The paper's fitness for the robust study's number of simulations (6 members each).
     longer = args.generations * ROBUST_MEMBERS
     db, walls["paper-long"] = evolve(args, "paper-long", longer, False)
-    sets["paper-long"] = gait_sets(db, False, args.gaits)
+    sets["paper-long"], where["paper-long"] = gait_sets(db, False, args.gaits, "paper-long"), everywhere
     print(f"paper-long: {longer} generations in {walls['paper-long']:.0f} s", flush=True)
-    t0 = time.monotonic()
-    achieved = measure(sets, args.cycles)
-    print(f"rig2d: {len(achieved)} runs in {time.monotonic() - t0:.0f} s", flush=True)
-    rows = table(sets, achieved, walls)
+    for build in BUILDS if args.diagnose else ():
+        db, wall, named[build] = diagnose_and_evolve(args, build)
+        if db:
+            study = f"diagnosed-{build}"
+            sets[study], where[study], walls[study] = gait_sets(db, True, args.gaits, study), [(build, STRONG_HOSE)], wall
+    achieved = measure(sets, where, args.cycles)
+    rows = table(sets, where, achieved, walls)
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
-        json.dump({"rows": rows, "population": args.population,
-                   "generations": args.generations, "paper_long_generations": longer}, f, indent=1)
+        json.dump({"rows": rows, "population": args.population, "generations": args.generations,
+                   "paper_long_generations": longer, "diagnoses": named}, f, indent=1)
 
 
 if __name__ == "__main__":
