@@ -53,7 +53,17 @@ SCENARIOS = {"nothing concealed": {}, "hose 0.05 N + 0.5 N/m": {"hose_n": 0.05, 
              STRONG_HOSE: {"hose_n": 0.4}}
 
 
-def spec(name, population, generations, robust, diagnosis=""):
+# --structural: the robust study's ensemble also samples the model's idealisations, over
+# physical priors rather than any build's values: a finite friction of silicone on a floor
+# instead of no slip, deformable lumps (the paper's silicone is 2.3 /MPa; 0 is rigid) and
+# the links' damping off by up to 2x.
+STRUCTURAL = ("    parameters:\n"
+              "      - {name: ground.friction_coefficient, lo: 1.0, hi: 3.0}\n"
+              "      - {name: effect.lump_compliance_per_mpa, lo: 0.0, hi: 5.0}\n"
+              "      - {name: scale.link_damping, lo: 0.5, hi: 2.0}\n")
+
+
+def spec(name, population, generations, robust, diagnosis="", structural=False):
     text = (f"name: {name}\nseed: 1\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
@@ -63,17 +73,17 @@ def spec(name, population, generations, robust, diagnosis=""):
         return text + "  params: {cycles: 1, settle_cycles: 2}\n"
     return text + ("  params: {cycles: 2, settle_cycles: 1}\n"
                    "  robust:\n    numerics: [standard]\n"
-                   "    statistic: mean_minus_sd\n    k: 0.5\n")
+                   "    statistic: mean_minus_sd\n    k: 0.5\n") + (STRUCTURAL if structural else "")
 
 
-def evolve(args, name, generations, robust, db=None, diagnosis=""):
+def evolve(args, name, generations, robust, db=None, diagnosis="", structural=False):
     if db is None:
         db = os.path.join(args.out, f"{name}.db")
         if os.path.exists(db):
             os.remove(db)
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
-        f.write(spec(name, args.population, generations, robust, diagnosis))
+        f.write(spec(name, args.population, generations, robust, diagnosis, structural))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -244,6 +254,11 @@ def main():
     ap.add_argument("--builds", default="rig2d,mujoco", help="independent builds, comma separated")
     ap.add_argument("--diagnose", action="store_true",
                     help="also diagnose the strong hose on each build and evolve from it")
+    ap.add_argument("--structural", action="store_true",
+                    help="also a robust study whose ensemble samples the model's idealisations "
+                         "(STRUCTURAL)")
+    ap.add_argument("--only", default="", help="only these studies, comma separated "
+                    "(paper, robust, paper-long, robust-structural)")
     ap.add_argument("--screening", type=int, default=120, help="--diagnose: screening budget")
     ap.add_argument("--full", type=int, default=480, help="--diagnose: refit budget")
     ap.add_argument("--quick", action="store_true")
@@ -260,15 +275,20 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     walls, sets, where, named = {}, {}, {}, {}
     everywhere = [(b, scen) for b in BUILDS for scen in SCENARIOS]
-    for name, robust in (("paper", False), ("robust", True)):
-        db, walls[name] = evolve(args, name, args.generations, robust)
-        sets[name], where[name] = gait_sets(db, robust, args.gaits, name), everywhere
-        print(f"{name}: evolved in {walls[name]:.0f} s", flush=True)
-    # The paper's fitness for the robust study's number of simulations (6 members each).
+    # paper-long: the paper's fitness for the robust study's number of simulations (6
+    # members each).
     longer = args.generations * ROBUST_MEMBERS
-    db, walls["paper-long"] = evolve(args, "paper-long", longer, False)
-    sets["paper-long"], where["paper-long"] = gait_sets(db, False, args.gaits, "paper-long"), everywhere
-    print(f"paper-long: {longer} generations in {walls['paper-long']:.0f} s", flush=True)
+    studies = [("paper", args.generations, False, False), ("robust", args.generations, True, False),
+               ("paper-long", longer, False, False)]
+    if args.structural:
+        studies.append(("robust-structural", args.generations, True, True))
+    only = set(args.only.split(",")) if args.only else {n for n, *_ in studies}
+    for name, generations, robust, structural in studies:
+        if name not in only:
+            continue
+        db, walls[name] = evolve(args, name, generations, robust, structural=structural)
+        sets[name], where[name] = gait_sets(db, robust, args.gaits, name), everywhere
+        print(f"{name}: {generations} generations in {walls[name]:.0f} s", flush=True)
     for build in BUILDS if args.diagnose else ():
         db, wall, named[build] = diagnose_and_evolve(args, build)
         if db:
