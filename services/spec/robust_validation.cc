@@ -28,7 +28,8 @@ std::string Objectives() {
 std::string RangeError(const robots::RobotDescriptor& robot, const std::string& name, double lo,
                        double hi) {
   // What the objective's option set accepts: the generic builder any parameter, a dedicated
-  // model (the caterpillar) its calibratable ones; both scales and effects.
+  // model of its own (its descriptor's model is not generic) its calibratable ones; both
+  // scales and effects.
   std::vector<std::string> known = effects::FittableNames(robot);
   if (robot.model == "generic")
     for (const robots::Parameter& p : robot.parameters) known.push_back(p.name);

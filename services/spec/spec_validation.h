@@ -16,7 +16,7 @@ struct FieldError {
 };
 
 // Fills what the user may leave out: engine "ga", name "study", the objective's default
-// search space, ga.elite 10 and ga.mutation_rate 0.10 (the caterpillar paper's values).
+// search space, ga.elite 10 and ga.mutation_rate 0.10 (paper 000's values).
 void ApplyDefaults(gaitforge::v1::StudySpec* spec);
 
 // Every problem, in field order. Empty means valid. Call after ApplyDefaults.

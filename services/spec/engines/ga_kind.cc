@@ -1,4 +1,4 @@
-// engine: ga, the caterpillar paper's GA (services/engines/ga/).
+// engine: ga, the generational GA of paper 000 (services/engines/ga/).
 #include <algorithm>
 #include <cmath>
 
