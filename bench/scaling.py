@@ -9,7 +9,8 @@ dispatch efficiency (busy worker-time / (N x wall)), the coordinator's CPU per e
 and the swarm's own CPU, lease latency and generation turnaround (p50/p99), SQLite commit
 latency (from the coordinator's metrics), heartbeat and watch-stream traffic, and the
 coordinator's peak memory. Each study is sized to ~2 s of work per worker and generation
-and ~45 s in all. Draws efficiency against N as a figure (matplotlib, python3-matplotlib).
+(--work: other amounts) and ~45 s in all. Draws efficiency against N as a figure
+(matplotlib, python3-matplotlib).
 
 Run from the repository root after ./scripts/build.sh, with the CPU to itself:
     /usr/bin/python3 bench/scaling.py [--workers 256 1024] [--evals 0.05 0.5]
@@ -27,6 +28,7 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "scale"))
 import swarm_procs  # noqa: E402
 
 COLUMNS = [("N", "workers", "%d"), ("eval", "eval", "%s"), ("st", "studies", "%d"),
+           ("W s", "work_s", "%g"),
            ("eff", "efficiency", "%.3f"), ("wall s", "wall_s", "%.1f"),
            ("evals", "results_accepted", "%d"), ("coord us/ev", "coordinator_cpu_us_per_eval", "%.0f"),
            ("swarm cpu s", "swarm_cpu_s", "%.1f"), ("lease p50", "lease_ms_p50", "%.1f"),
@@ -68,11 +70,12 @@ def figure(rows, path):
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     series = {}
     for r in rows:
-        series.setdefault((r["eval"], r["studies"]), []).append((r["workers"], r["efficiency"]))
-    for (ev, st), pts in sorted(series.items()):
+        key = (r["eval"], r["studies"], r.get("work_s", 2.0))
+        series.setdefault(key, []).append((r["workers"], r["efficiency"]))
+    for (ev, st, work), pts in sorted(series.items()):
         pts.sort()
         ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o",
-                label="%s, %d stud%s" % (ev, st, "y" if st == 1 else "ies"))
+                label="%s, %d stud%s, %g s/generation" % (ev, st, "y" if st == 1 else "ies", work))
     ax.axhline(0.95, color="grey", ls=":", lw=1)
     ax.axhline(0.90, color="grey", ls="--", lw=1)
     ax.set_xscale("log", base=2)
@@ -87,8 +90,9 @@ def figure(rows, path):
 
 def cells(args):
     if args.goal:
-        return [(1024, 0.5, 1), (256, 0.05, 1)]
-    return [(n, e, s) for s in args.studies for e in args.evals for n in args.workers]
+        return [(1024, 0.5, 1, w) for w in args.work] + [(256, 0.05, 1, w) for w in args.work]
+    return [(n, e, s, w) for w in args.work for s in args.studies for e in args.evals
+            for n in args.workers]
 
 
 def main():
@@ -100,16 +104,20 @@ def main():
     ap.add_argument("--dist", choices=["constant", "lognormal"], default="constant")
     ap.add_argument("--sigma", type=float, default=1.0, help="lognormal's sigma")
     ap.add_argument("--seconds", type=float, default=45, help="target length of a cell")
+    ap.add_argument("--work", type=float, nargs="+", default=[2.0],
+                    help="seconds of work per worker and generation (the study's size)")
     ap.add_argument("--goal", action="store_true")
     ap.add_argument("--json", help="write every cell's figures here")
     ap.add_argument("--figure", help="efficiency against N (SVG or PNG)")
     ap.add_argument("--coordinator-flag", action="append", default=[])
     args = ap.parse_args()
     rows = []
-    for n, ev, st in cells(args):
+    for n, ev, st, work in cells(args):
         dist = "constant:%g" % ev if args.dist == "constant" else "lognormal:%g:%g" % (ev, args.sigma)
         with tempfile.TemporaryDirectory(prefix="gf-scale-") as d:
-            r = swarm_procs.cell(args.bin_dir, d, n, dist, ev, st, args.seconds, args.coordinator_flag)
+            r = swarm_procs.cell(args.bin_dir, d, n, dist, ev, st, args.seconds, args.coordinator_flag,
+                                 work_s=work)
+        r["work_s"] = work
         rows.append(r)
         print(table([r]).splitlines()[-1] if len(rows) > 1 else table([r]), flush=True)
     print("\n" + table(rows))

@@ -161,6 +161,7 @@ void EmulatedWorker::OnReport(const grpc::Status& s, const v1::ReportResponse& r
       const auto now = Clock::now();
       for (const auto& r : report_.results()) {
         const auto next = std::make_pair(r.key().study_id(), r.key().generation() + 1);
+        st.first_report.emplace(std::make_pair(r.key().study_id(), r.key().generation()), now);
         if (!st.first_lease.count(next))
           st.last_report[{r.key().study_id(), r.key().generation()}] = now;
       }

@@ -16,6 +16,27 @@ std::string Calls(const CallCount& c, double secs) {
                       c.response_bytes, ", \"per_second\": ", Num(c.calls / secs), "}");
 }
 
+double MsSince(Clock::time_point from, const std::map<std::pair<std::string, int>, Clock::time_point>& m,
+               const std::pair<std::string, int>& key) {
+  auto it = m.find(key);
+  return it == m.end() ? NAN : std::chrono::duration<double, std::milli>(it->second - from).count();
+}
+
+// The first study's generations: when each was first and last leased and first and last
+// reported, in ms from the submission (where a generation's barrier time goes).
+std::string Timeline(const std::string& study, const RunWindow& win, const SwarmStats& st) {
+  std::vector<std::string> rows;
+  for (int g = 0;; ++g) {
+    const auto key = std::make_pair(study, g);
+    if (!st.first_lease.count(key)) break;
+    rows.push_back(absl::StrCat("[", g, ", ", Num(MsSince(win.start, st.first_lease, key)), ", ",
+                                Num(MsSince(win.start, st.last_lease, key)), ", ",
+                                Num(MsSince(win.start, st.first_report, key)), ", ",
+                                Num(MsSince(win.start, st.last_report, key)), "]"));
+  }
+  return absl::StrCat("[", absl::StrJoin(rows, ", "), "]");
+}
+
 }  // namespace
 
 std::string ReportJson(int workers, const std::string& eval, int64_t nofile,
@@ -54,7 +75,10 @@ std::string ReportJson(int workers, const std::string& eval, int64_t nofile,
       ",\n \"lease\": ", Calls(st.lease, wall), ", \"report\": ", Calls(st.report, wall),
       ", \"heartbeat\": ", Calls(st.heartbeat, wall),
       ",\n \"watch\": {\"messages\": ", traffic.messages.load(), ", \"bytes\": ",
-      traffic.bytes.load(), ", \"reconnects\": ", traffic.reconnects.load(), "}}");
+      traffic.bytes.load(), ", \"reconnects\": ", traffic.reconnects.load(), "}",
+      ",\n \"timeline_columns\": [\"generation\", \"first_lease_ms\", \"last_lease_ms\", "
+      "\"first_report_ms\", \"last_report_ms\"], \"timeline\": ",
+      ids.empty() ? "[]" : Timeline(ids[0], win, st), "}");
 }
 
 }  // namespace gaitforge::swarm

@@ -30,6 +30,8 @@ struct SwarmStats {
   // The last lease of a generation's own jobs (not backups): first_lease to it is the time
   // the coordinator took to hand the generation out.
   std::map<std::pair<std::string, int>, Clock::time_point> last_lease;
+  // The first report of a generation's results landing.
+  std::map<std::pair<std::string, int>, Clock::time_point> first_report;
 
   // Busy seconds inside [from, to].
   static double BusySeconds(const Intervals& xs, Clock::time_point from, Clock::time_point to);

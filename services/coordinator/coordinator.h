@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -136,6 +137,10 @@ class Coordinator {
     // A Job with the study's objective and bounds, which every leased job copies (built at
     // the first lease; immutable, so it is copied outside mu_).
     std::shared_ptr<const v1::Job> job_prototype;
+    // The current generation's jobs each worker has leased (cleared when the generation
+    // changes), for the cap on a worker's part of a generation (PartLeft).
+    int part_generation = -1;
+    std::unordered_map<std::string, int> leased_by_worker;
   };
 
   // A Lease call waiting for jobs.
@@ -161,7 +166,8 @@ class Coordinator {
   };
   // The waiter's answer if it has one now; `final`: answer even with no jobs.
   std::optional<Delivery> TryServe(Waiter& w, bool final);  // under mu_
-  std::vector<Granted> Grant(const std::vector<queue::Lease>& leases, const std::string& build);
+  std::vector<Granted> Grant(const std::vector<queue::Lease>& leases, const std::string& worker_id,
+                             const std::string& build);
   static void Deliver(Delivery d);  // outside mu_
   // Delivers `ready` with mu_ released (held by `l` before and after), and clears it.
   void DeliverUnlocked(std::unique_lock<std::mutex>& l, std::vector<Delivery>& ready);
@@ -185,7 +191,10 @@ class Coordinator {
   storage::StudyRecord LiveRecord(const Study& s) const;
   void SetState(Study& s, const std::string& state, const std::string& error);
   void Bump();
-  int FairShare(int requested);
+  int FairShare(const std::string& worker_id, int requested);
+  // Jobs `worker_id` may still lease of the running studies' current generations: an even
+  // part of them among the active workers, less what it already holds of them; at least 1.
+  int64_t PartLeft(const std::string& worker_id, int64_t active);
   // Records a call from the worker (Lease, Report, Heartbeat).
   void Touch(const std::string& worker_id);
   // Workers seen within one lease period (at least as fresh as kActiveRecountMs).

@@ -80,7 +80,7 @@ std::optional<Coordinator::Delivery> Coordinator::TryServe(Waiter& w, bool final
     }
     return true;
   };
-  auto leases = queue_.LeaseJobs(w.worker_id, FairShare(w.max_jobs), accept);
+  auto leases = queue_.LeaseJobs(w.worker_id, FairShare(w.worker_id, w.max_jobs), accept);
   if (leases.empty() && !final) return std::nullopt;
   Delivery d;
   d.done = std::move(w.done);
@@ -91,11 +91,12 @@ std::optional<Coordinator::Delivery> Coordinator::TryServe(Waiter& w, bool final
     return d;
   }
   d.lease_ms = queue_.lease_ms();
-  d.granted = Grant(leases, w.build);
+  d.granted = Grant(leases, w.worker_id, w.build);
   return d;
 }
 
 std::vector<Coordinator::Granted> Coordinator::Grant(const std::vector<queue::Lease>& leases,
+                                                     const std::string& worker_id,
                                                      const std::string& build) {
   if (options_.metrics) {
     int backups = 0;
@@ -113,6 +114,13 @@ std::vector<Coordinator::Granted> Coordinator::Grant(const std::vector<queue::Le
     }
     ++s.counters.leases;
     if (lease.backup) ++s.counters.backups;
+    if (!lease.backup) {
+      if (s.part_generation != lease.key.generation) {
+        s.part_generation = lease.key.generation;
+        s.leased_by_worker.clear();
+      }
+      ++s.leased_by_worker[worker_id];
+    }
     if (!s.job_prototype) {
       auto proto = std::make_shared<v1::Job>();
       *proto->mutable_objective() = s.spec.objective();

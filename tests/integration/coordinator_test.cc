@@ -71,6 +71,51 @@ TEST(Coordinator, IdleWorkersGetEqualShares) {
   }
 }
 
+// A worker's part of a generation (issue 30): the first worker back from its batch finds
+// few idle peers; it gets an even part of the generation less what it already had, not
+// the idle workers' share of what is left, and past its part one job at a time.
+TEST(Coordinator, AWorkerBackFirstTakesOnlyItsPartOfTheGeneration) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto c = Open(dir.File("p.db"), clock);
+  Create(*c, SmallSpec(3));  // 30 members, 3 workers: a part is 10
+  v1::HeartbeatRequest hb;
+  for (const char* w : {"a", "b", "c"}) {
+    hb.mutable_worker()->set_worker_id(w);
+    ASSERT_TRUE(c->Heartbeat(hb).ok());
+  }
+  auto lease = [&](const char* w, int max_jobs) {
+    v1::LeaseRequest req;
+    req.mutable_worker()->set_worker_id(w);
+    req.set_max_jobs(max_jobs);
+    auto l = c->Lease(req);
+    EXPECT_TRUE(l.ok()) << l.status();
+    return l.ok() ? *l : v1::LeaseResponse();
+  };
+  auto report = [&](const char* w, const v1::LeaseResponse& l) {
+    v1::ReportRequest r;
+    r.mutable_worker()->set_worker_id(w);
+    for (const auto& job : l.jobs()) {
+      auto* res = r.add_results();
+      *res->mutable_key() = job.key();
+      res->set_lease_id(job.lease_id());
+      res->mutable_evaluation()->set_valid(true);
+      res->mutable_evaluation()->set_fitness(1.0);
+    }
+    ASSERT_TRUE(c->Report(r).ok());
+  };
+  const v1::LeaseResponse a1 = lease("a", 6), b1 = lease("b", 6), c1 = lease("c", 6);
+  EXPECT_EQ(a1.jobs_size() + b1.jobs_size() + c1.jobs_size(), 18);
+  report("a", a1);
+  // 12 pending and a alone idle: the idle share would be 12; its part left is 4.
+  const v1::LeaseResponse a2 = lease("a", 100);
+  EXPECT_EQ(a2.jobs_size(), 4);
+  report("a", a2);
+  // Its part is taken: one job at a time, so a lost worker's jobs still get done.
+  EXPECT_EQ(lease("a", 100).jobs_size(), 1);
+  EXPECT_EQ(lease("b", 100).jobs_size(), 4);  // b has had 6 of its 10
+}
+
 v1::LeaseRequest WaitingLease(const char* worker, int wait_ms) {
   v1::LeaseRequest req;
   req.mutable_worker()->set_worker_id(worker);

@@ -13,10 +13,11 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import chaos  # noqa: E402
 
 
-def sized_spec(workers, studies, mean_s, seconds, seed=1, elite=10, jobs_per_worker=None):
+def sized_spec(workers, studies, mean_s, seconds, seed=1, elite=10, jobs_per_worker=None,
+               work_s=2.0):
     """A GA spec whose generation gives every worker about `jobs_per_worker` jobs (by default
-    ~2 s of work per generation) and whose run lasts about `seconds`."""
-    k = jobs_per_worker or max(1, round(2.0 / mean_s))
+    ~`work_s` seconds of work per generation) and whose run lasts about `seconds`."""
+    k = jobs_per_worker or max(1, round(work_s / mean_s))
     per_study = max(elite + 2, -(-k * workers // studies) + elite)
     gens = max(3, round(seconds / (k * mean_s)))
     return {"name": "swarm", "seed": seed, "engine": "ga", "population": per_study,
@@ -97,13 +98,14 @@ def run_swarm(bin_dir, workdir, coord, spec, workers, eval_dist, studies=1, extr
     return res
 
 
-def cell(bin_dir, workdir, workers, eval_dist, mean_s, studies=1, seconds=45, flags=()):
+def cell(bin_dir, workdir, workers, eval_dist, mean_s, studies=1, seconds=45, flags=(),
+         work_s=2.0):
     """One measured cell: a fresh coordinator and database, the swarm, the figures."""
     os.makedirs(workdir, exist_ok=True)
     db = os.path.join(workdir, "scale.db")
     coord = start_coordinator(bin_dir, workdir, db, flags=flags)
     try:
-        spec = sized_spec(workers, studies, mean_s, seconds)
+        spec = sized_spec(workers, studies, mean_s, seconds, work_s=work_s)
         res = run_swarm(bin_dir, workdir, coord, spec, workers, eval_dist, studies)
         text = metrics_text(metrics_port(coord))
         p50, p99 = histogram_quantiles(text, "gaitforge_sqlite_commit_seconds")

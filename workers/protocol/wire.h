@@ -24,12 +24,13 @@ constexpr double kDrainReportGiveUpS = 10;
 // The worker aims at about this much work per lease: two round trips per batch, so 0.5 s
 // cost a thousand workers with 500 ms evaluations four RPCs per second each (issue 30).
 constexpr double kTargetBatchSeconds = 2.0;
-// A worker asks for up to this many times its target: the coordinator's fair share still
-// splits a generation evenly, but an estimate a little above the true evaluation time (a
-// jittery or late timer) no longer leaves a generation's last jobs for a second round
-// (issue 30: at 256 x 50 ms, asks of 35 jobs against shares of 40 made some generations
-// take two rounds).
-constexpr double kBatchHeadroom = 1.5;
+// A worker asks for up to this many times its target, and the coordinator hands it its
+// part: the idle workers' share of what is pending, within an even part of the generation
+// (Coordinator::FairShare). The headroom lets an estimate a little above the true
+// evaluation time (a late timer) still take a whole part, and lets a generation of up to
+// ~5 s per worker go out in one batch: with 8 jobs of 500 ms per worker and asks of 6, every
+// generation took two rounds of Report and Lease, two barriers instead of one (issue 30).
+constexpr double kBatchHeadroom = 2.5;
 
 // UNAVAILABLE, DEADLINE_EXCEEDED, RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN.
 bool Retryable(const grpc::Status& s);

@@ -41,11 +41,11 @@ TEST(Wire, BackoffDoublesWithJitterUpToFiveSeconds) {
   EXPECT_LE(b.NextDelayMs(), 100);
 }
 
-TEST(Wire, BatchSizingAsksForUpToThreeSeconds) {
+TEST(Wire, BatchSizingAsksForUpToFiveSeconds) {
   EXPECT_EQ(WantJobs(1, 0, 256), 4);  // unknown: 4 per thread
   EXPECT_EQ(WantJobs(2, 0, 256), 8);
-  EXPECT_EQ(WantJobs(1, 0.05, 256), 60);  // 2 s with 1.5x headroom
-  EXPECT_EQ(WantJobs(4, 0.5, 256), 24);
+  EXPECT_EQ(WantJobs(1, 0.05, 256), 100);  // 2 s with 2.5x headroom
+  EXPECT_EQ(WantJobs(4, 0.5, 256), 40);
   EXPECT_EQ(WantJobs(1, 5.0, 256), 1);
   EXPECT_EQ(WantJobs(1, 1e-9, 256), 256);   // capped by --max-batch
   EXPECT_EQ(WantJobs(8, 1e-9, 4096), 1024); // and by the protocol's 1024
