@@ -44,232 +44,295 @@ void SleepBackoff(Backoff& backoff, std::atomic<bool>& drain) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
 
+using Fetched = std::map<std::string, absl::StatusOr<std::shared_ptr<const recording::Recording>>>;
+
+// One worker process's loop, its connection and its heartbeat thread.
+class WorkerLoop {
+ public:
+  WorkerLoop(const WorkerOptions& o, const objectives::ObjectiveRegistry& registry,
+             std::atomic<bool>& drain)
+      : o_(o),
+        registry_(registry),
+        drain_(drain),
+        copts_{o.coordinator, o.tls_ca, o.tls_cert, o.tls_key, o.token},
+        recordings_([this](const std::string& hash) { return FetchRecording(hash); }),
+        runner_(o.threads) {}
+
+  int Run(WorkerStats* stats_out);
+
+ private:
+  enum class Leased { kJobs, kNone, kRetry, kStop };
+  // Waits for the address file if there is one, then opens the channel; false: exit 2.
+  bool Connect(bool& drained);
+  void SetStubs(const std::shared_ptr<grpc::Channel>& channel);
+  std::shared_ptr<v1::WorkerService::Stub> Stub();
+  // After a failed call: a restarted coordinator may have moved (another node).
+  void FollowCoordinator();
+  absl::StatusOr<RecordingCache::Bytes> FetchRecording(const std::string& hash);
+  void HeartbeatLoop();
+  Leased Lease(v1::LeaseResponse& lease);
+  // The recordings the batch names, fetched before evaluating so that a transient network
+  // error delays the batch rather than changing its results; false when draining left
+  // some unfetched.
+  bool FetchRecordings(const v1::LeaseResponse& lease, Fetched& fetched);
+  v1::ReportRequest Evaluate(const v1::LeaseResponse& lease, const Fetched& fetched);
+  // Reports until it lands; a draining worker gives up after about 10 s.
+  void SendReport(const v1::ReportRequest& report);
+
+  const WorkerOptions& o_;
+  const objectives::ObjectiveRegistry& registry_;
+  std::atomic<bool>& drain_;
+  rpc::ChannelOptions copts_;
+  std::mutex stub_mu_;  // guards the stubs (replaced when the coordinator moves)
+  std::shared_ptr<v1::WorkerService::Stub> stub_;
+  std::shared_ptr<v1::RecordingService::Stub> recordings_stub_;
+  RecordingCache recordings_;
+  BatchRunner runner_;
+  v1::WorkerInfo info_;
+  std::atomic<int> lease_ms_{10000};
+  std::atomic<bool> holding_{false}, stop_heartbeat_{false};
+  std::mutex lease_mu_;
+  grpc::ClientContext* lease_ctx_ = nullptr;  // the pending Lease; guarded by lease_mu_
+  Backoff backoff_;
+  double mean_eval_s_ = 0.0;  // running estimate of one evaluation's time
+  int code_ = 0;
+  WorkerStats stats_;
+};
+
+bool WorkerLoop::Connect(bool& drained) {
+  if (!o_.coordinator_file.empty()) {
+    // Wait for the coordinator to publish its address (Slurm: it may start after us).
+    while ((copts_.target = ReadAddressFile(o_.coordinator_file)).empty()) {
+      if ((drained = drain_.load())) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  }
+  auto channel = rpc::MakeChannel(copts_);
+  if (!channel.ok()) {
+    spdlog::error("{}", std::string(channel.status().message()));
+    return false;
+  }
+  SetStubs(*channel);
+  return true;
+}
+
+void WorkerLoop::SetStubs(const std::shared_ptr<grpc::Channel>& channel) {
+  std::lock_guard<std::mutex> l(stub_mu_);
+  stub_ = v1::WorkerService::NewStub(channel);
+  recordings_stub_ = v1::RecordingService::NewStub(channel);
+}
+
+std::shared_ptr<v1::WorkerService::Stub> WorkerLoop::Stub() {
+  std::lock_guard<std::mutex> l(stub_mu_);
+  return stub_;
+}
+
+void WorkerLoop::FollowCoordinator() {
+  if (o_.coordinator_file.empty()) return;
+  const std::string target = ReadAddressFile(o_.coordinator_file);
+  if (target.empty() || target == copts_.target) return;
+  copts_.target = target;
+  if (auto ch = rpc::MakeChannel(copts_); ch.ok()) {
+    SetStubs(*ch);
+    spdlog::info("worker={} following the coordinator to {}", info_.worker_id(), target);
+  }
+}
+
+absl::StatusOr<RecordingCache::Bytes> WorkerLoop::FetchRecording(const std::string& hash) {
+  std::shared_ptr<v1::RecordingService::Stub> rs;
+  {
+    std::lock_guard<std::mutex> l(stub_mu_);
+    rs = recordings_stub_;
+  }
+  grpc::ClientContext ctx;
+  rpc::PrepareCall(ctx, 60, o_.token);
+  v1::GetRecordingRequest req;
+  req.set_hash(hash);
+  v1::GetRecordingResponse resp;
+  grpc::Status s = rs->GetRecording(&ctx, req, &resp);
+  if (!s.ok())
+    return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
+  return RecordingCache::Bytes{resp.recording().name(), resp.csv(), resp.sidecar()};
+}
+
+// Heartbeats from their own thread, so a long evaluation never loses its lease; the same
+// thread cancels a pending long-poll Lease as soon as a drain is requested.
+void WorkerLoop::HeartbeatLoop() {
+  auto last = Clock::now();
+  while (!stop_heartbeat_.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (drain_.load()) {
+      std::lock_guard<std::mutex> l(lease_mu_);
+      if (lease_ctx_) lease_ctx_->TryCancel();
+    }
+    if (Clock::now() - last < std::chrono::milliseconds(HeartbeatIntervalMs(lease_ms_.load())))
+      continue;
+    last = Clock::now();
+    if (!holding_.load()) continue;
+    grpc::ClientContext ctx;
+    rpc::PrepareCall(ctx, kHeartbeatDeadlineS, o_.token);
+    const v1::HeartbeatRequest req = MakeHeartbeatRequest(info_);
+    v1::HeartbeatResponse resp;
+    grpc::Status s = Stub()->Heartbeat(&ctx, req, &resp);
+    if (s.ok()) lease_ms_ = resp.lease_ms();
+    else spdlog::debug("heartbeat failed: {}", s.error_message());
+  }
+}
+
+WorkerLoop::Leased WorkerLoop::Lease(v1::LeaseResponse& lease) {
+  const v1::LeaseRequest lreq =
+      MakeLeaseRequest(info_, WantJobs(o_.threads, mean_eval_s_, o_.max_batch));
+  grpc::ClientContext ctx;
+  rpc::PrepareCall(ctx, kLeaseDeadlineS, o_.token);
+  {
+    std::lock_guard<std::mutex> l(lease_mu_);
+    lease_ctx_ = &ctx;
+  }
+  grpc::Status s = Stub()->Lease(&ctx, lreq, &lease);
+  {
+    std::lock_guard<std::mutex> l(lease_mu_);
+    lease_ctx_ = nullptr;
+  }
+  if (drain_.load() && s.error_code() == grpc::StatusCode::CANCELLED) return Leased::kStop;
+  if (!s.ok()) {
+    if (!Retryable(s)) {
+      spdlog::error("lease refused: {} ({})", s.error_message(), static_cast<int>(s.error_code()));
+      code_ = 3;
+      return Leased::kStop;
+    }
+    spdlog::warn("coordinator unreachable ({}); retrying", s.error_message());
+    SleepBackoff(backoff_, drain_);
+    FollowCoordinator();
+    return Leased::kRetry;
+  }
+  backoff_.Reset();
+  lease_ms_ = lease.lease_ms();
+  return lease.jobs_size() == 0 ? Leased::kNone : Leased::kJobs;
+}
+
+bool WorkerLoop::FetchRecordings(const v1::LeaseResponse& lease, Fetched& fetched) {
+  for (const auto& job : lease.jobs()) {
+    // A robot the study carries may be the one its recordings name.
+    std::shared_ptr<const robots::RobotDescriptor> robot;
+    if (!job.objective().robot_descriptor().empty()) {
+      auto resolved =
+          robots::ResolveRobot(job.objective().robot(), job.objective().robot_descriptor());
+      if (resolved.ok()) robot = *resolved;  // else the objective says why
+    }
+    for (const auto& hash : job.objective().recordings()) {
+      if (fetched.count(hash)) continue;
+      for (;;) {
+        auto r = recordings_.Get(hash, robot.get());
+        const grpc::StatusCode code = static_cast<grpc::StatusCode>(r.status().code());
+        const bool transient = !r.ok() && code != grpc::StatusCode::RESOURCE_EXHAUSTED &&
+                               Retryable(grpc::Status(code, std::string(r.status().message())));
+        if (!transient) {
+          fetched.emplace(hash, std::move(r));
+          break;
+        }
+        if (drain_.load()) return false;  // leave the batch unevaluated: its leases expire
+        spdlog::warn("worker={} fetching recording {}: {}; retrying", info_.worker_id(), hash,
+                     std::string(r.status().message()));
+        SleepBackoff(backoff_, drain_);
+      }
+    }
+  }
+  return true;
+}
+
+v1::ReportRequest WorkerLoop::Evaluate(const v1::LeaseResponse& lease, const Fetched& fetched) {
+  const int n = lease.jobs_size();
+  v1::ReportRequest report = StartReport(info_, lease);
+  const auto t0 = Clock::now();
+  runner_.Run(n, [&](int i) {
+    const auto start = Clock::now();
+    const objectives::EvalResult r = EvaluateJob(registry_, lease.jobs(i), fetched);
+    FillResult(report.mutable_results(i), r,
+               std::chrono::duration<double>(Clock::now() - start).count());
+  });
+  const double batch_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  mean_eval_s_ = UpdateMeanEval(mean_eval_s_, batch_s, o_.threads, n);
+  stats_.evaluated += n;
+  return report;
+}
+
+void WorkerLoop::SendReport(const v1::ReportRequest& report) {
+  const int n = report.results_size();
+  const auto give_up =
+      Clock::now() + std::chrono::milliseconds(static_cast<int>(kDrainReportGiveUpS * 1000));
+  for (;;) {
+    grpc::ClientContext ctx;
+    rpc::PrepareCall(ctx, kReportDeadlineS, o_.token);
+    v1::ReportResponse resp;
+    grpc::Status s = Stub()->Report(&ctx, report, &resp);
+    const ReportFate fate = ClassifyReport(s);
+    if (fate == ReportFate::kLanded) {
+      stats_.reported += resp.accepted();
+      stats_.duplicates += resp.duplicates();
+      break;
+    }
+    if (fate == ReportFate::kDrop) {
+      spdlog::error("report refused: {}", s.error_message());
+      stats_.refused += n;
+      break;
+    }
+    if (drain_.load() && Clock::now() > give_up) {
+      spdlog::warn("draining: could not report {} results ({})", n, s.error_message());
+      break;
+    }
+    spdlog::warn("report failed ({}); retrying", s.error_message());
+    std::atomic<bool> never{false};
+    SleepBackoff(backoff_, never);
+  }
+  backoff_.Reset();
+}
+
+int WorkerLoop::Run(WorkerStats* stats_out) {
+  bool drained = false;
+  if (!Connect(drained)) return 2;
+  if (drained) return 0;
+  info_ = MakeWorkerInfo(o_.worker_id, o_.threads, SimBuild(), registry_.Names());
+  spdlog::info("worker={} ({} threads) pulling from {}", info_.worker_id(), o_.threads,
+               copts_.target);
+  std::thread heartbeat([this] { HeartbeatLoop(); });
+  auto last_work = Clock::now();
+  while (!drain_.load()) {
+    if (o_.exit_when_idle_s > 0 &&
+        std::chrono::duration<double>(Clock::now() - last_work).count() > o_.exit_when_idle_s)
+      break;
+    v1::LeaseResponse lease;
+    const Leased leased = Lease(lease);
+    if (leased == Leased::kStop) break;
+    if (leased != Leased::kJobs) continue;
+    last_work = Clock::now();
+    holding_ = true;
+    Fetched fetched;
+    if (!FetchRecordings(lease, fetched)) {
+      // Draining while the coordinator is unreachable: a transient error must not become a
+      // result (results depend only on the job), so the batch goes back by lease expiry.
+      holding_ = false;
+      break;
+    }
+    SendReport(Evaluate(lease, fetched));
+    holding_ = false;
+  }
+  stop_heartbeat_ = true;
+  heartbeat.join();
+  spdlog::info("worker={} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
+               info_.worker_id(), stats_.evaluated, stats_.reported, stats_.duplicates,
+               stats_.refused);
+  if (stats_out) *stats_out = stats_;
+  return code_;
+}
+
 }  // namespace
 
 std::string SimBuild() { return core::BuildId(); }
 
 int RunWorker(const WorkerOptions& options, const objectives::ObjectiveRegistry& registry,
               std::atomic<bool>& drain, WorkerStats* stats_out) {
-  WorkerStats stats;
-  rpc::ChannelOptions copts{options.coordinator, options.tls_ca, options.tls_cert, options.tls_key,
-                            options.token};
-  if (!options.coordinator_file.empty()) {
-    // Wait for the coordinator to publish its address (Slurm: it may start after us).
-    while ((copts.target = ReadAddressFile(options.coordinator_file)).empty()) {
-      if (drain.load()) return 0;
-      std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    }
-  }
-  auto channel = rpc::MakeChannel(copts);
-  if (!channel.ok()) {
-    spdlog::error("{}", std::string(channel.status().message()));
-    return 2;
-  }
-  std::shared_ptr<v1::WorkerService::Stub> stub = v1::WorkerService::NewStub(*channel);
-  std::shared_ptr<v1::RecordingService::Stub> recordings_stub =
-      v1::RecordingService::NewStub(*channel);
-  std::mutex stub_mu;  // guards stub and recordings_stub (replaced when the coordinator moves)
-  auto current_stub = [&] {
-    std::lock_guard<std::mutex> l(stub_mu);
-    return stub;
-  };
-  RecordingCache recordings([&](const std::string& hash)
-                                -> absl::StatusOr<RecordingCache::Bytes> {
-    std::shared_ptr<v1::RecordingService::Stub> rs;
-    {
-      std::lock_guard<std::mutex> l(stub_mu);
-      rs = recordings_stub;
-    }
-    grpc::ClientContext ctx;
-    rpc::PrepareCall(ctx, 60, options.token);
-    v1::GetRecordingRequest req;
-    req.set_hash(hash);
-    v1::GetRecordingResponse resp;
-    grpc::Status s = rs->GetRecording(&ctx, req, &resp);
-    if (!s.ok())
-      return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
-    return RecordingCache::Bytes{resp.recording().name(), resp.csv(), resp.sidecar()};
-  });
-  const v1::WorkerInfo info =
-      MakeWorkerInfo(options.worker_id, options.threads, SimBuild(), registry.Names());
-  spdlog::info("worker={} ({} threads) pulling from {}", info.worker_id(), options.threads,
-               copts.target);
-
-  // Heartbeats from their own thread, so a long evaluation never loses its lease. The same
-  // thread cancels a pending long-poll Lease as soon as a drain is requested.
-  std::atomic<int> lease_ms{10000};
-  std::atomic<bool> holding{false};
-  std::atomic<bool> stop_heartbeat{false};
-  std::mutex lease_mu;
-  grpc::ClientContext* lease_ctx = nullptr;  // guarded by lease_mu
-  std::thread heartbeat([&] {
-    auto last = Clock::now();
-    while (!stop_heartbeat.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      if (drain.load()) {
-        std::lock_guard<std::mutex> l(lease_mu);
-        if (lease_ctx) lease_ctx->TryCancel();
-      }
-      if (Clock::now() - last < std::chrono::milliseconds(HeartbeatIntervalMs(lease_ms.load())))
-        continue;
-      last = Clock::now();
-      if (!holding.load()) continue;
-      grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, kHeartbeatDeadlineS, options.token);
-      const v1::HeartbeatRequest req = MakeHeartbeatRequest(info);
-      v1::HeartbeatResponse resp;
-      grpc::Status s = current_stub()->Heartbeat(&ctx, req, &resp);
-      if (s.ok()) lease_ms = resp.lease_ms();
-      else spdlog::debug("heartbeat failed: {}", s.error_message());
-    }
-  });
-
-  BatchRunner runner(options.threads);
-  Backoff backoff;
-  double mean_eval_s = 0.0;  // running estimate of one evaluation's time
-  auto last_work = Clock::now();
-  int code = 0;
-  while (!drain.load()) {
-    if (options.exit_when_idle_s > 0 &&
-        std::chrono::duration<double>(Clock::now() - last_work).count() > options.exit_when_idle_s)
-      break;
-    const v1::LeaseRequest lreq =
-        MakeLeaseRequest(info, WantJobs(options.threads, mean_eval_s, options.max_batch));
-    v1::LeaseResponse lease;
-    {
-      grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, kLeaseDeadlineS, options.token);
-      {
-        std::lock_guard<std::mutex> l(lease_mu);
-        lease_ctx = &ctx;
-      }
-      grpc::Status s = current_stub()->Lease(&ctx, lreq, &lease);
-      {
-        std::lock_guard<std::mutex> l(lease_mu);
-        lease_ctx = nullptr;
-      }
-      if (drain.load() && s.error_code() == grpc::StatusCode::CANCELLED) break;
-      if (!s.ok()) {
-        if (!Retryable(s)) {
-          spdlog::error("lease refused: {} ({})", s.error_message(),
-                        static_cast<int>(s.error_code()));
-          code = 3;
-          break;
-        }
-        spdlog::warn("coordinator unreachable ({}); retrying", s.error_message());
-        SleepBackoff(backoff, drain);
-        if (!options.coordinator_file.empty()) {
-          // A restarted coordinator may have moved (another node): follow its file.
-          const std::string target = ReadAddressFile(options.coordinator_file);
-          if (!target.empty() && target != copts.target) {
-            copts.target = target;
-            if (auto ch = rpc::MakeChannel(copts); ch.ok()) {
-              std::lock_guard<std::mutex> l(stub_mu);
-              stub = v1::WorkerService::NewStub(*ch);
-              recordings_stub = v1::RecordingService::NewStub(*ch);
-              spdlog::info("worker={} following the coordinator to {}", info.worker_id(), target);
-            }
-          }
-        }
-        continue;
-      }
-    }
-    backoff.Reset();
-    lease_ms = lease.lease_ms();
-    if (lease.jobs_size() == 0) continue;
-    last_work = Clock::now();
-    holding = true;
-
-    const int n = lease.jobs_size();
-    // The recordings the batch names, fetched before evaluating so that a transient
-    // network error delays the batch rather than changing its results.
-    std::map<std::string, absl::StatusOr<std::shared_ptr<const recording::Recording>>> fetched;
-    for (const auto& job : lease.jobs()) {
-      // A robot the study carries may be the one its recordings name.
-      std::shared_ptr<const robots::RobotDescriptor> robot;
-      if (!job.objective().robot_descriptor().empty()) {
-        auto resolved = robots::ResolveRobot(job.objective().robot(),
-                                             job.objective().robot_descriptor());
-        if (resolved.ok()) robot = *resolved;  // else the objective says why
-      }
-      for (const auto* list : {&job.objective().recordings()}) {
-        for (const auto& hash : *list) {
-          if (fetched.count(hash)) continue;
-          for (;;) {
-            auto r = recordings.Get(hash, robot.get());
-            const grpc::StatusCode code = static_cast<grpc::StatusCode>(r.status().code());
-            const bool transient = !r.ok() && code != grpc::StatusCode::RESOURCE_EXHAUSTED &&
-                                   Retryable(grpc::Status(code, std::string(r.status().message())));
-            if (!transient) {
-              fetched.emplace(hash, std::move(r));
-              break;
-            }
-            if (drain.load()) break;  // leave the batch unevaluated: its leases expire
-            spdlog::warn("worker={} fetching recording {}: {}; retrying", info.worker_id(), hash,
-                         std::string(r.status().message()));
-            SleepBackoff(backoff, drain);
-          }
-        }
-      }
-    }
-    bool all_fetched = true;
-    for (const auto& job : lease.jobs())
-      for (const auto& hash : job.objective().recordings()) all_fetched &= fetched.count(hash) > 0;
-    if (!all_fetched) {
-      // Draining while the coordinator is unreachable: a transient error must not become a
-      // result (results depend only on the job), so the batch goes back by lease expiry.
-      holding = false;
-      break;
-    }
-    v1::ReportRequest report = StartReport(info, lease);
-    const auto t0 = Clock::now();
-    runner.Run(n, [&](int i) {
-      const auto start = Clock::now();
-      const objectives::EvalResult r = EvaluateJob(registry, lease.jobs(i), fetched);
-      FillResult(report.mutable_results(i), r,
-                 std::chrono::duration<double>(Clock::now() - start).count());
-    });
-    const double batch_s = std::chrono::duration<double>(Clock::now() - t0).count();
-    mean_eval_s = UpdateMeanEval(mean_eval_s, batch_s, options.threads, n);
-    stats.evaluated += n;
-
-    // Report until it lands; a draining worker gives up after about 10 s.
-    const auto report_deadline =
-        Clock::now() + std::chrono::milliseconds(static_cast<int>(kDrainReportGiveUpS * 1000));
-    for (;;) {
-      grpc::ClientContext ctx;
-      rpc::PrepareCall(ctx, kReportDeadlineS, options.token);
-      v1::ReportResponse resp;
-      grpc::Status s = current_stub()->Report(&ctx, report, &resp);
-      const ReportFate fate = ClassifyReport(s);
-      if (fate == ReportFate::kLanded) {
-        stats.reported += resp.accepted();
-        stats.duplicates += resp.duplicates();
-        break;
-      }
-      if (fate == ReportFate::kDrop) {
-        spdlog::error("report refused: {}", s.error_message());
-        stats.refused += n;
-        break;
-      }
-      if (drain.load() && Clock::now() > report_deadline) {
-        spdlog::warn("draining: could not report {} results ({})", n, s.error_message());
-        break;
-      }
-      spdlog::warn("report failed ({}); retrying", s.error_message());
-      std::atomic<bool> never{false};
-      SleepBackoff(backoff, never);
-    }
-    backoff.Reset();
-    holding = false;
-  }
-  stop_heartbeat = true;
-  heartbeat.join();
-  spdlog::info("worker={} exits: {} evaluated, {} accepted, {} duplicates, {} refused",
-               info.worker_id(), stats.evaluated, stats.reported, stats.duplicates,
-               stats.refused);
-  if (stats_out) *stats_out = stats;
-  return code;
+  WorkerLoop loop(options, registry, drain);
+  return loop.Run(stats_out);
 }
 
 }  // namespace gaitforge::worker

@@ -12,7 +12,7 @@ namespace gaitforge::worker {
 struct WorkerOptions {
   std::string coordinator = "127.0.0.1:50051";
   int threads = 1;
-  // Upper bound of jobs per lease; the worker asks for about 3 s of work per lease
+  // Upper bound of jobs per lease; the worker asks for up to about 5 s of work per lease
   // (workers/protocol/wire.h, kBatchHeadroom x kTargetBatchSeconds).
   int max_batch = 256;
   std::string worker_id;  // empty: host-pid-random
