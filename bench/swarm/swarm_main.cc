@@ -101,6 +101,13 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge-swarm: " << loaded.status().message() << "\n";
     return 2;
   }
+  if (!loaded->spec.objective().robot_descriptor().empty()) {
+    // Emulated workers evaluate without fetching (no GetRobot): a built-in robot or an
+    // analytic objective.
+    std::cerr << "gaitforge-swarm: " << o.spec << ": field 'objective.robot' names a "
+              << "descriptor file; the swarm runs built-in robots and analytic objectives only\n";
+    return 2;
+  }
   auto durations = Durations::Parse(o.eval);
   auto token = rpc::LoadToken(o.token_file, "GAITFORGE_TOKEN");
   if (!durations.ok() || !token.ok()) {

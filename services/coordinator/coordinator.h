@@ -104,6 +104,8 @@ class Coordinator {
   void WakeLeases();
   absl::StatusOr<v1::ReportResponse> Report(const v1::ReportRequest& request);
   absl::StatusOr<v1::HeartbeatResponse> Heartbeat(const v1::HeartbeatRequest& request);
+  // The robot descriptor a leased job names by content hash (objective.robot_descriptor_hash).
+  absl::StatusOr<v1::GetRobotResponse> GetRobot(const v1::GetRobotRequest& req);
 
   // Expires leases, closes poisoned jobs, surfaces storage failures. Called periodically.
   void Tick();
@@ -214,6 +216,8 @@ class Coordinator {
   // Studies this process scheduled, running or ended since; their record is authoritative
   // (the store may lag by the writes in flight). Jobs are only scheduled for running ones.
   std::map<std::string, std::unique_ptr<Study>> studies_;  // GUARDED_BY(mu_)
+  // Robot descriptors of the jobs leased, by content hash; jobs carry only the hash.
+  std::map<std::string, std::string> robot_texts_;  // GUARDED_BY(mu_)
   queue::JobQueue queue_;                                  // GUARDED_BY(mu_)
   std::map<std::string, int64_t> workers_seen_;            // GUARDED_BY(mu_)
   int64_t active_ = 0, active_at_ms_ = -1;  // cached ActiveWorkers() and when; GUARDED_BY(mu_)

@@ -9,6 +9,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "services/coordinator/coordinator.h"
+#include "services/recording/recording.h"
 #include "services/coordinator/metrics.h"
 
 namespace gaitforge::coordinator {
@@ -125,6 +126,14 @@ std::vector<Coordinator::Granted> Coordinator::Grant(const std::vector<queue::Le
       auto proto = std::make_shared<v1::Job>();
       *proto->mutable_objective() = s.spec.objective();
       *proto->mutable_bounds() = s.spec.bounds();
+      // The descriptor goes by content hash: a worker fetches its text once (GetRobot),
+      // rather than in every job of every batch.
+      if (v1::ObjectiveSpec* o = proto->mutable_objective(); !o->robot_descriptor().empty()) {
+        const std::string hash = recording::ContentHash(o->robot_descriptor(), "");
+        robot_texts_.emplace(hash, o->robot_descriptor());
+        o->set_robot_descriptor_hash(hash);
+        o->clear_robot_descriptor();
+      }
       s.job_prototype = std::move(proto);
     }
     granted.push_back({lease, s.job_prototype, s.engine->Ask()[lease.key.member].genes});

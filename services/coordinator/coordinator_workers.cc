@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "services/coordinator/coordinator.h"
+#include "services/recording/recording.h"
 #include "services/spec/engine_kinds.h"
 #include "services/coordinator/metrics.h"
 
@@ -208,6 +209,26 @@ absl::StatusOr<v1::HeartbeatResponse> Coordinator::Heartbeat(const v1::Heartbeat
   v1::HeartbeatResponse out;
   out.set_leases_renewed(queue_.Heartbeat(req.worker().worker_id()));
   out.set_lease_ms(static_cast<int32_t>(queue_.lease_ms()));
+  return out;
+}
+
+absl::StatusOr<v1::GetRobotResponse> Coordinator::GetRobot(const v1::GetRobotRequest& req) {
+  if (req.hash().empty()) return absl::InvalidArgumentError("field 'hash' is required");
+  std::lock_guard<std::mutex> l(mu_);
+  auto it = robot_texts_.find(req.hash());
+  if (it == robot_texts_.end()) {
+    // Leased by an earlier coordinator process: the studies' specs hold every descriptor.
+    for (const auto& [id, s] : studies_) {
+      const std::string& text = s->spec.objective().robot_descriptor();
+      if (!text.empty()) robot_texts_.emplace(recording::ContentHash(text, ""), text);
+    }
+    it = robot_texts_.find(req.hash());
+  }
+  if (it == robot_texts_.end())
+    return absl::NotFoundError(
+        absl::StrCat("no study here has a robot descriptor of hash '", req.hash(), "'"));
+  v1::GetRobotResponse out;
+  out.set_text(it->second);
   return out;
 }
 

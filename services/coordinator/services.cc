@@ -165,6 +165,12 @@ grpc::ServerUnaryReactor* WorkerServiceImpl::Heartbeat(grpc::CallbackServerConte
   return AnswerNow(ctx, auth_.Check(ctx, Role::kWorker), [&] { return c_.Heartbeat(*req); }, out);
 }
 
+grpc::ServerUnaryReactor* WorkerServiceImpl::GetRobot(grpc::CallbackServerContext* ctx,
+                                                      const v1::GetRobotRequest* req,
+                                                      v1::GetRobotResponse* out) {
+  return AnswerNow(ctx, auth_.Check(ctx, Role::kWorker), [&] { return c_.GetRobot(*req); }, out);
+}
+
 grpc::Status RecordingServiceImpl::AddRecording(grpc::ServerContext* ctx,
                                                 const v1::AddRecordingRequest* req,
                                                 v1::AddRecordingResponse* out) {

@@ -46,6 +46,8 @@ class WorkerServiceImpl final : public v1::WorkerService::CallbackService {
                                    v1::ReportResponse*) override;
   grpc::ServerUnaryReactor* Heartbeat(grpc::CallbackServerContext*, const v1::HeartbeatRequest*,
                                       v1::HeartbeatResponse*) override;
+  grpc::ServerUnaryReactor* GetRobot(grpc::CallbackServerContext*, const v1::GetRobotRequest*,
+                                     v1::GetRobotResponse*) override;
 
  private:
   Coordinator& c_;

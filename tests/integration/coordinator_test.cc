@@ -3,7 +3,9 @@
 #include <sqlite3.h>
 
 #include <atomic>
+#include <fstream>
 #include <future>
+#include <sstream>
 
 #include "services/coordinator/coordinator.h"
 #include "tests/integration/study_driver.h"
@@ -114,6 +116,52 @@ TEST(Coordinator, AWorkerBackFirstTakesOnlyItsPartOfTheGeneration) {
   // Its part is taken: one job at a time, so a lost worker's jobs still get done.
   EXPECT_EQ(lease("a", 100).jobs_size(), 1);
   EXPECT_EQ(lease("b", 100).jobs_size(), 4);  // b has had 6 of its 10
+}
+
+// A study's robot descriptor goes to workers by content hash (issue 23): a leased job
+// names it, GetRobot returns the text, after a restart too.
+TEST(Coordinator, JobsNameTheRobotDescriptorByHash) {
+  TempDir dir;
+  core::ManualClock clock;
+  std::ifstream in(GAITFORGE_SOURCE_DIR "/tests/fixtures/robots/twobox/robot.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  ASSERT_FALSE(text.str().empty());
+  v1::StudySpec spec = SmallSpec(1, 12, 2);
+  spec.mutable_objective()->set_name("robot.distance");
+  spec.mutable_objective()->set_robot("twobox");
+  spec.mutable_objective()->set_robot_descriptor(text.str());
+  std::string hash;
+  {
+    auto c = Open(dir.File("h.db"), clock);
+    Create(*c, spec);
+    v1::LeaseRequest req;
+    req.mutable_worker()->set_worker_id("w");
+    req.set_max_jobs(2);
+    auto lease = c->Lease(req);
+    ASSERT_TRUE(lease.ok()) << lease.status();
+    ASSERT_EQ(lease->jobs_size(), 2);
+    const v1::ObjectiveSpec& o = lease->jobs(0).objective();
+    EXPECT_TRUE(o.robot_descriptor().empty());
+    hash = o.robot_descriptor_hash();
+    EXPECT_EQ(hash.size(), 64u);
+    v1::GetRobotRequest get;
+    get.set_hash(hash);
+    auto got = c->GetRobot(get);
+    ASSERT_TRUE(got.ok()) << got.status();
+    EXPECT_EQ(got->text(), text.str());
+    get.set_hash("0123");
+    EXPECT_EQ(c->GetRobot(get).status().code(), absl::StatusCode::kNotFound);
+    get.clear_hash();
+    EXPECT_EQ(c->GetRobot(get).status().code(), absl::StatusCode::kInvalidArgument);
+  }
+  // A restarted coordinator that has leased nothing yet still knows it.
+  auto c = Open(dir.File("h.db"), clock);
+  v1::GetRobotRequest get;
+  get.set_hash(hash);
+  auto got = c->GetRobot(get);
+  ASSERT_TRUE(got.ok()) << got.status();
+  EXPECT_EQ(got->text(), text.str());
 }
 
 v1::LeaseRequest WaitingLease(const char* worker, int wait_ms) {

@@ -17,6 +17,7 @@
 #include "gaitforge/v1/worker.grpc.pb.h"
 #include "services/core/build_info.h"
 #include "services/rpc/channel.h"
+#include "workers/protocol/descriptor_cache.h"
 #include "workers/protocol/job_eval.h"
 #include "workers/protocol/wire.h"
 #include "workers/worker/batch_runner.h"
@@ -56,6 +57,7 @@ class WorkerLoop {
         drain_(drain),
         copts_{o.coordinator, o.tls_ca, o.tls_cert, o.tls_key, o.token},
         recordings_([this](const std::string& hash) { return FetchRecording(hash); }),
+        descriptors_([this](const std::string& hash) { return FetchDescriptor(hash); }),
         runner_(o.threads) {}
 
   int Run(WorkerStats* stats_out);
@@ -69,12 +71,17 @@ class WorkerLoop {
   // After a failed call: a restarted coordinator may have moved (another node).
   void FollowCoordinator();
   absl::StatusOr<RecordingCache::Bytes> FetchRecording(const std::string& hash);
+  absl::StatusOr<std::string> FetchDescriptor(const std::string& hash);
   void HeartbeatLoop();
   Leased Lease(v1::LeaseResponse& lease);
   // The recordings the batch names, fetched before evaluating so that a transient network
   // error delays the batch rather than changing its results; false when draining left
   // some unfetched.
   bool FetchRecordings(const v1::LeaseResponse& lease, Fetched& fetched);
+  // The robot descriptors the batch names by hash, put back into its jobs; false when
+  // draining left one unfetched, or the coordinator refuses it for good (then the batch
+  // is dropped and its leases expire).
+  bool FillDescriptors(v1::LeaseResponse& lease);
   v1::ReportRequest Evaluate(const v1::LeaseResponse& lease, const Fetched& fetched);
   // Reports until it lands; a draining worker gives up after about 10 s.
   void SendReport(const v1::ReportRequest& report);
@@ -87,6 +94,7 @@ class WorkerLoop {
   std::shared_ptr<v1::WorkerService::Stub> stub_;
   std::shared_ptr<v1::RecordingService::Stub> recordings_stub_;
   RecordingCache recordings_;
+  DescriptorCache descriptors_;
   BatchRunner runner_;
   v1::WorkerInfo info_;
   std::atomic<int> lease_ms_{10000};
@@ -153,6 +161,35 @@ absl::StatusOr<RecordingCache::Bytes> WorkerLoop::FetchRecording(const std::stri
   if (!s.ok())
     return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
   return RecordingCache::Bytes{resp.recording().name(), resp.csv(), resp.sidecar()};
+}
+
+absl::StatusOr<std::string> WorkerLoop::FetchDescriptor(const std::string& hash) {
+  grpc::ClientContext ctx;
+  rpc::PrepareCall(ctx, 60, o_.token);
+  v1::GetRobotRequest req;
+  req.set_hash(hash);
+  v1::GetRobotResponse resp;
+  grpc::Status s = Stub()->GetRobot(&ctx, req, &resp);
+  if (!s.ok())
+    return absl::Status(static_cast<absl::StatusCode>(s.error_code()), s.error_message());
+  return resp.text();
+}
+
+bool WorkerLoop::FillDescriptors(v1::LeaseResponse& lease) {
+  for (;;) {
+    const absl::Status s = descriptors_.Fill(lease);
+    if (s.ok()) return true;
+    const grpc::Status g(static_cast<grpc::StatusCode>(s.code()), std::string(s.message()));
+    if (!Retryable(g) && s.code() != absl::StatusCode::kDataLoss) {
+      spdlog::error("worker={} robot descriptor refused: {}; the batch is dropped",
+                    info_.worker_id(), std::string(s.message()));
+      return false;
+    }
+    if (drain_.load()) return false;
+    spdlog::warn("worker={} fetching a robot descriptor: {}; retrying", info_.worker_id(),
+                 std::string(s.message()));
+    SleepBackoff(backoff_, drain_);
+  }
 }
 
 // Heartbeats from their own thread, so a long evaluation never loses its lease; the same
@@ -306,6 +343,10 @@ int WorkerLoop::Run(WorkerStats* stats_out) {
     if (leased != Leased::kJobs) continue;
     last_work = Clock::now();
     holding_ = true;
+    if (!FillDescriptors(lease)) {
+      holding_ = false;
+      continue;  // the loop ends here if draining
+    }
     Fetched fetched;
     if (!FetchRecordings(lease, fetched)) {
       // Draining while the coordinator is unreachable: a transient error must not become a
