@@ -31,7 +31,23 @@ namespace gaitforge::diagnosis {
 std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
   auto robot = RobotOf(d);
   if (!robot.ok()) return {""};
-  return robots::StandardNumerics(**robot);
+  std::vector<std::string> out = robots::StandardNumerics(**robot);
+  const robots::Parameter* h = (*robot)->FindParameter(kTimestepParam);
+  if (!d.has_timestep_ms() || h == nullptr || !(h->value > 0)) return out;
+  // At the diagnosis's own step the timestep variants keep their ratios to it.
+  const std::string prefix = std::string(kTimestepParam) + "=";
+  for (std::string& v : out)
+    if (v.rfind(prefix, 0) == 0)
+      v = absl::StrFormat("%s%.9g", prefix,
+                          std::stod(v.substr(prefix.size())) * d.timestep_ms() * 1e-3 / h->value);
+  return out;
+}
+
+std::string BaseSet(const v1::DiagnosisSpec& d, const std::string& extra_set) {
+  if (!d.has_timestep_ms() || extra_set.find(kTimestepParam) != std::string::npos)
+    return extra_set;
+  const std::string step = absl::StrFormat("%s=%.9g", kTimestepParam, d.timestep_ms() * 1e-3);
+  return extra_set.empty() ? step : step + "," + extra_set;
 }
 
 absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d) {
@@ -139,6 +155,7 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
     o->set_robot_descriptor(d.robot_descriptor());
   }
   (*o->mutable_options())["error"] = d.error();
+  if (d.has_timestep_ms()) (*o->mutable_params())["timestep_ms"] = d.timestep_ms();
   if (!in.weights.empty()) (*o->mutable_options())["weights"] = in.weights;
   for (const auto& h : in.train) o->add_recordings(h);
   for (const auto& h : in.held) o->add_held_out(h);
@@ -168,7 +185,8 @@ std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string
   if (const std::string robot = RobotArg(d); !robot.empty())
     argv.insert(argv.end(), {"--robot", robot});
   std::string set = SetArg(c);
-  if (!extra_set.empty()) set += (set.empty() ? "" : ",") + extra_set;
+  if (const std::string more = BaseSet(d, extra_set); !more.empty())
+    set += (set.empty() ? "" : ",") + more;
   if (!set.empty()) argv.insert(argv.end(), {"--set", set});
   if (!out_dir.empty()) {
     std::error_code ec;
@@ -264,6 +282,24 @@ std::string NumericsNote(const std::vector<std::string>& variants,
       "numerics converge (gaitforge-bench-engines measures a robot's step)",
       variants[best], 1000 * training_errors[best], 1000 * training_errors[0],
       100 * (training_errors[best] / training_errors[0] - 1));
+}
+
+double FinerStepMs(const std::vector<std::string>& variants,
+                   const std::vector<double>& training_errors, double own_step_ms) {
+  if (variants.size() != training_errors.size() || variants.empty() ||
+      !(training_errors[0] > 0))
+    return -1;
+  const std::string prefix = std::string(kTimestepParam) + "=";
+  double best_ms = -1, best_error = kUnconvergedShare * training_errors[0];
+  for (size_t i = 1; i < variants.size(); ++i) {
+    if (variants[i].rfind(prefix, 0) != 0) continue;
+    const double ms = 1e3 * std::stod(variants[i].substr(prefix.size()));
+    if (ms < own_step_ms && training_errors[i] < best_error) {
+      best_ms = ms;
+      best_error = training_errors[i];
+    }
+  }
+  return best_ms;
 }
 
 void TwoAtATime(size_t n, const std::function<void(size_t)>& run) {

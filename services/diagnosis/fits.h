@@ -96,6 +96,16 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
 // numeric variant (variants[i], "" the model as it is) of the uncalibrated model misses the
 // training recordings by less than kUnconvergedShare of the model's own error; "" otherwise.
 inline constexpr double kUnconvergedShare = 0.8;
+// The robot parameter that holds the model's step (the numeric variants change it).
+inline constexpr char kTimestepParam[] = "simulation.timestep_s";
+// The robot parameters every evaluation of the diagnosis sets before `extra_set` (a
+// variant's): its own step when the spec gives one (timestep_ms), unless extra_set sets it.
+std::string BaseSet(const v1::DiagnosisSpec& d, const std::string& extra_set);
+// Numerics first: the timestep variant finer than the model's own step that brings the
+// uncalibrated model closest to the training recordings, if it does by more than
+// 1 - kUnconvergedShare of the model's own error; -1 otherwise. Its step in ms.
+double FinerStepMs(const std::vector<std::string>& variants,
+                   const std::vector<double>& training_errors, double own_step_ms);
 std::string NumericsNote(const std::vector<std::string>& variants,
                          const std::vector<double>& training_errors);
 

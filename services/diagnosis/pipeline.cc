@@ -67,6 +67,30 @@ absl::Status Weigh(RunState& s) {
   return absl::OkStatus();
 }
 
+// 0. Numerics first (numerics: first): while a finer step among the numeric variants
+// brings the uncalibrated model closer to the training recordings by more than a fifth,
+// the diagnosis moves to that step (its variants with it), so that the model's own step
+// error cannot pass for an effect (docs/diagnosis.md, "Numerics first").
+absl::Status Numerics(RunState& s) {
+  if (s.d.numerics() != "first" || s.d.weighting() != "floor") return absl::OkStatus();
+  auto robot = RobotOf(s.d);
+  const robots::Parameter* h = robot.ok() ? (*robot)->FindParameter(kTimestepParam) : nullptr;
+  if (h == nullptr) return absl::OkStatus();
+  s.numerics_from_ms = s.d.has_timestep_ms() ? s.d.timestep_ms() : 1e3 * h->value;
+  s.numerics_from_error = s.variant_train.empty() ? NAN : s.variant_train[0];
+  for (int round = 0; round < 2; ++round) {
+    const double own = s.d.has_timestep_ms() ? s.d.timestep_ms() : 1e3 * h->value;
+    const double finer = FinerStepMs(NumericVariants(s.d), s.variant_train, own);
+    if (finer <= 0 || finer < 0.05) break;
+    s.d.set_timestep_ms(finer);
+    s.r.note(absl::StrFormat("numerics first: the model's %.3g ms step misses the training "
+                             "recordings by %.3g mm, %.3g ms by less: diagnosing at %.3g ms",
+                             own, 1000 * s.variant_train[0], finer, finer));
+    if (auto st = Weigh(s); !st.ok()) return st;
+  }
+  return absl::OkStatus();
+}
+
 // The baseline's held-out errors, its noise floor and where its residuals show the
 // mismatch, on the training recordings and on the held-out ones (if not there, they
 // cannot confirm).
@@ -267,7 +291,7 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
   std::error_code ec;
   std::filesystem::create_directories(in.dir, ec);
   RunState s(d, in, studies, r);
-  for (auto stage : {CountSamples, Weigh, Baseline, Structure, Screen, Refit})
+  for (auto stage : {CountSamples, Weigh, Numerics, Baseline, Structure, Screen, Refit})
     if (auto st = stage(s); !st.ok()) return st;
   DecideStage(s);
   WriteCorrected(s);

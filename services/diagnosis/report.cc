@@ -124,6 +124,17 @@ std::string Structure(const RunState& s) {
                       ", \"study_id\": ", JsonQuote(c.study_id), "}");
 }
 
+// The step the diagnosis ran at when numerics first moved it (numerics: first), or null.
+std::string Numerics(const RunState& s) {
+  if (!std::isfinite(s.numerics_from_ms) || !s.d.has_timestep_ms() ||
+      s.d.timestep_ms() == s.numerics_from_ms)
+    return "null";
+  return absl::StrCat("{\"from_ms\": ", Num(s.numerics_from_ms), ", \"at_ms\": ",
+                      Num(s.d.timestep_ms()), ", \"from_training_error\": ",
+                      Num(s.numerics_from_error), ", \"at_training_error\": ",
+                      Num(s.variant_train.empty() ? NAN : s.variant_train[0]), "}");
+}
+
 std::string Errors(const RunState& s) {
   std::string j = absl::StrCat(
       "{\"baseline_train\": ", Num(s.base.train), ", \"baseline_held_out\": ", Num(s.base.held),
@@ -191,7 +202,8 @@ std::string WriteReport(RunState& s) {
       absl::StrJoin(runners, ", "), "], \"screening\": [", absl::StrJoin(screened, ", "),
       "], \"top\": ", s.d.top(), ", \"screening_tie\": ", Num(s.d.screening_tie()),
       ", \"refitted_singles\": ", s.singles, ", \"reused_fits\": ", s.reused,
-      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"structure\": ", Structure(s));
+      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"structure\": ", Structure(s),
+      ", \"numerics\": ", Numerics(s));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",
                   JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train)),

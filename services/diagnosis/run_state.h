@@ -29,6 +29,9 @@ struct RunState {
   StudyInputs fit_inputs;
   std::vector<double> weights, train_floors;
   std::vector<double> variant_train;  // the uncalibrated model's mean training error per variant
+  // Numerics first: the step the diagnosis started from (ms) and the uncalibrated model's
+  // mean training error there (NAN: the stage did not run).
+  double numerics_from_ms = NAN, numerics_from_error = NAN;
   int reused = 0;  // fits found in the database with the same spec, not run again
 
   Candidate base;

@@ -93,6 +93,12 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.structure() != "off" && d.structure() != "first")
     return absl::InvalidArgumentError(absl::StrCat("field 'structure': '", d.structure(),
                                                    "' is not one of off, first"));
+  if (d.numerics() != "off" && d.numerics() != "first")
+    return absl::InvalidArgumentError(absl::StrCat("field 'numerics': '", d.numerics(),
+                                                   "' is not one of off, first"));
+  if (d.has_timestep_ms() && !(d.timestep_ms() >= 0.05 && d.timestep_ms() <= 2))
+    return absl::InvalidArgumentError(absl::StrCat("field 'timestep_ms': ", d.timestep_ms(),
+                                                   " is out of range [0.05, 2] ms"));
   if (d.weighting() != "equal" && d.weighting() != "floor")
     return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
                                                    "' is not one of equal, floor"));
@@ -110,6 +116,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (d->error().empty()) d->set_error("shape");
   if (d->weighting().empty()) d->set_weighting("floor");
   if (d->structure().empty()) d->set_structure("off");
+  if (d->numerics().empty()) d->set_numerics("off");
   if (!d->has_margin()) d->set_margin(10);
   auto robot = RobotOf(*d);
   if (d->candidates_size() == 0 && robot.ok())

@@ -91,6 +91,15 @@ std::string Verdict(const Struct& r) {
   const Struct& rule = O(r, "rule");
   const std::string experiment = S(r, "experiment");
   std::string out;
+  if (Field(r, "numerics").kind_case() == Value::kStructValue) {
+    const Struct& nu = O(r, "numerics");
+    absl::StrAppend(&out, absl::StrFormat(
+                              "the model's numerics: its %.3g ms step missed the training "
+                              "recordings by %.3g mm, %.3g ms by %.3g mm, so the diagnosis ran "
+                              "at %.3g ms\n",
+                              N(nu, "from_ms"), 1000 * N(nu, "from_training_error"),
+                              N(nu, "at_ms"), 1000 * N(nu, "at_training_error"), N(nu, "at_ms")));
+  }
   if (Field(r, "structure").kind_case() == Value::kStructValue) {
     const Struct& st = O(r, "structure");
     absl::StrAppend(&out, absl::StrFormat("the model's structure: %s, fitted into the baseline "

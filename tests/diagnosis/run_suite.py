@@ -204,6 +204,9 @@ def main():
     ap.add_argument("--structure", default="", choices=["", "off", "first"],
                     help="the spec's structure stage (docs/diagnosis.md, \"Structure first\"; "
                          "default: the diagnosis's own default)")
+    ap.add_argument("--numerics", default="", choices=["", "off", "first"],
+                    help="the spec's numerics stage (docs/diagnosis.md, \"Numerics first\"; "
+                         "default: the diagnosis's own default)")
     ap.add_argument("--rescore", default="",
                     help="score stored diagnoses instead of running: --json-out files of earlier "
                          "runs, comma separated (their cases in this suite's answers)")
@@ -218,6 +221,7 @@ def main():
             results = [r for r in results if r["case"] in cases]
     else:
         extra = f"structure: {a.structure}\n" if a.structure else ""
+        extra += f"numerics: {a.numerics}\n" if a.numerics else ""
         results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
                             a.weighting, extra) for c in cases]
     # Only now: the answers.

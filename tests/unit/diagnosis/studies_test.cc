@@ -170,6 +170,47 @@ TEST(NumericsNote, CautionsOnlyWhenAVariantCutsTheErrorBeyondTheShare) {
   EXPECT_EQ(NumericsNote(variants, {0.0033, 0.0018}), "");          // does not match
 }
 
+// Numerics first: the finer timestep variant that cuts the uncalibrated model's training
+// error beyond the share is chosen; the variants then scale with the diagnosis's step, and
+// every evaluation and fit study runs at it.
+TEST(NumericsFirst, ChoosesAFinerStepAndTheWholeDiagnosisMovesToIt) {
+  const std::vector<std::string> variants = {"", "simulation.timestep_s=0.0005",
+                                             "simulation.timestep_s=0.00075",
+                                             "simulation.timestep_s=0.00125",
+                                             "ground.contact_cfm=3e-5"};
+  EXPECT_DOUBLE_EQ(FinerStepMs(variants, {4.4e-3, 2.4e-3, 3.0e-3, 1e-3, 1e-4}, 1.0), 0.5);
+  // A coarser step or a contact variant never counts; within the share, none.
+  EXPECT_EQ(FinerStepMs(variants, {4.4e-3, 4.0e-3, 3.9e-3, 1e-3, 1e-4}, 1.0), -1);
+  EXPECT_EQ(FinerStepMs(variants, {}, 1.0), -1);
+
+  v1::DiagnosisSpec d = Spec();
+  EXPECT_EQ(d.numerics(), "off");
+  EXPECT_EQ(BaseSet(d, "ground.contact_cfm=3e-5"), "ground.contact_cfm=3e-5");
+  d.set_timestep_ms(0.5);
+  const std::vector<std::string> scaled = NumericVariants(d);
+  ASSERT_GE(scaled.size(), 4u);
+  EXPECT_EQ(scaled[0], "");
+  EXPECT_EQ(scaled[1], "simulation.timestep_s=0.00025");
+  EXPECT_EQ(scaled[3], "simulation.timestep_s=0.000625");
+  EXPECT_EQ(BaseSet(d, ""), "simulation.timestep_s=0.0005");
+  EXPECT_EQ(BaseSet(d, "ground.contact_cfm=3e-5"),
+            "simulation.timestep_s=0.0005,ground.contact_cfm=3e-5");
+  EXPECT_EQ(BaseSet(d, scaled[1]), scaled[1]);  // a variant's own step wins
+  MemoryStudies studies;
+  Candidate base = Make(d, {});
+  int reused = 0;
+  ASSERT_TRUE(RunFits(studies, d, {&base}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  EXPECT_DOUBLE_EQ(studies.studies.at(base.study_id).spec().objective().params().at("timestep_ms"),
+                   0.5);
+  d.set_numerics("sometimes");
+  EXPECT_NE(Validate(d).message().find("field 'numerics': 'sometimes'"), std::string::npos);
+  d.set_numerics("first");
+  d.set_timestep_ms(5);
+  EXPECT_NE(Validate(d).message().find("field 'timestep_ms': 5 is out of range [0.05, 2] ms"),
+            std::string::npos)
+      << Validate(d);
+}
+
 // An effect whose parameter is a base parameter would be fitted twice: the default
 // candidates leave it out, and a spec that lists it is refused naming both fields.
 TEST(DiagnosisSpec, ACandidateThatFitsABaseParameterIsLeftOutOrRefused) {

@@ -77,6 +77,22 @@ TEST(ReportWords, AStructureInTheBaselineIsSaidBeforeTheEffectOnTopOfIt) {
   EXPECT_EQ(without->find("structure"), std::string::npos) << *without;
 }
 
+// Numerics first: the step the diagnosis moved to is said before the verdict, with the
+// uncalibrated model's errors at both steps.
+TEST(ReportWords, AMoveToAFinerStepIsSaidBeforeTheVerdict) {
+  std::string report = kFound;
+  report.insert(report.find("\"effects\""),
+                R"("numerics": {"from_ms": 1, "at_ms": 0.5, "from_training_error": 0.0044,
+   "at_training_error": 0.0024}, )");
+  auto w = ReportWords(report);
+  ASSERT_TRUE(w.ok()) << w.status();
+  const size_t said = w->find("the model's numerics: its 1 ms step missed the training "
+                              "recordings by 4.4 mm, 0.5 ms by 2.4 mm, so the diagnosis ran at "
+                              "0.5 ms");
+  ASSERT_NE(said, std::string::npos) << *w;
+  EXPECT_LT(said, w->find("found tether.constant")) << *w;
+}
+
 TEST(ReportWords, NotJsonIsAnErrorSayingSo) {
   auto w = ReportWords("{verdict");
   ASSERT_FALSE(w.ok());
