@@ -207,6 +207,9 @@ def main():
     ap.add_argument("--numerics", default="", choices=["", "off", "first"],
                     help="the spec's numerics stage (docs/diagnosis.md, \"Numerics first\"; "
                          "default: the diagnosis's own default)")
+    ap.add_argument("--timestep-ms", type=float, default=0,
+                    help="the spec's timestep_ms: run the whole diagnosis at this model step "
+                         "(default: the robot's own)")
     ap.add_argument("--rescore", default="",
                     help="score stored diagnoses instead of running: --json-out files of earlier "
                          "runs, comma separated (their cases in this suite's answers)")
@@ -222,6 +225,7 @@ def main():
     else:
         extra = f"structure: {a.structure}\n" if a.structure else ""
         extra += f"numerics: {a.numerics}\n" if a.numerics else ""
+        extra += f"timestep_ms: {a.timestep_ms}\n" if a.timestep_ms else ""
         results = [diagnose(a.bin_dir, a.suite, c, a.screening, a.full, a.workers, a.base,
                             a.weighting, extra) for c in cases]
     # Only now: the answers.
