@@ -118,11 +118,14 @@ bool ValidateRobotGenes(const StudySpec& spec, const core::ObjectiveInfo& info,
   }
   const robots::RobotDescriptor& d = **robot;
   if (d.model != "generic") {
+    // The robot's own model's objective of the same kind, from the catalog.
+    std::string own;
+    for (const auto& c : core::ObjectiveCatalog())
+      if ((info.calibration ? c.calibrates : c.gait_robot) == d.name) own = c.name;
     e.push_back({"objective.robot",
                  absl::StrCat("robot '", d.name, "' has model '", d.model, "'; ", o.name(),
-                              " simulates model: generic robots (the caterpillar: ",
-                              info.calibration ? "caterpillar.calibration" : "caterpillar.distance",
-                              ")")});
+                              " simulates model: generic robots",
+                              own.empty() ? "" : absl::StrCat(" (robot '", d.name, "': ", own, ")"))});
     return false;
   }
   if (info.calibration) {

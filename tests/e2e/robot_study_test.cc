@@ -76,7 +76,8 @@ TEST(RobotStudy, BadRobotReferencesAreRefusedWithTheirLines) {
                              HasSubstr("no body named 'frnt'")));
   auto caterpillar = run(Spec("caterpillar"));
   EXPECT_EQ(caterpillar.exit_code, 2);
-  EXPECT_THAT(caterpillar.err, HasSubstr("has model 'caterpillar'"));
+  EXPECT_THAT(caterpillar.err, AllOf(HasSubstr("has model 'caterpillar'"),
+                                     HasSubstr("(robot 'caterpillar': caterpillar.distance)")));
   EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
 }
 

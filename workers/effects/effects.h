@@ -1,15 +1,15 @@
 #pragma once
-// The catalog of candidate physical effects that the gap finder may attach to the caterpillar
+// The catalog of candidate physical effects that the gap finder may attach to a robot's
 // model (issue 8): the "missing physics" the papers name (../shared/papers/README.md) as
 // compact parametric forms with a physical meaning. Each effect is expressed by calibratable
-// parameters by name (workers/models/caterpillar/param_overrides.h), so that the calibration
-// machinery ("caterpillar.calibration") can fit them; the model side of the effect.* names
-// is CaterpillarParams::Effects (caterpillar_params.h) applied in CaterpillarSim.
+// parameters by name, so that a calibration study can fit them: parameters a robot's
+// descriptor declares itself (a dedicated model's effect.* parameters), or parameters the
+// generic builder adds to any robot with the part the effect attaches to.
 //
 // Pure data: this library does not depend on a model or on ODE (only on robots/).
 //
 // Where an effect applies: its parameters are either a robot's own (a calibratable
-// parameter or scale of its descriptor: actuators.force_n, scale.mass; the caterpillar's
+// parameter or scale of its descriptor: actuators.force_n, scale.mass; a dedicated model's
 // effect.* parameters) or, for an effect that declares the part it `attaches` to, parameters
 // the generic builder (workers/models/generic/) adds to any robot with that part.
 //
@@ -34,7 +34,7 @@ struct EffectInfo {
   struct Param {
     std::string name;   // a SetParam name (param_overrides.h)
     // The range a fit may search, and the value that leaves the model as it is (the effect
-    // absent: 0 for effect.*, 1 for scale.*, the caterpillar.yaml value for an absolute
+    // absent: 0 for effect.*, 1 for scale.*, the descriptor's value for an absolute
     // field). A range wide enough for the paper's story (tether: the hardware travelled
     // about 35% of the simulated distance).
     double lo, hi, nominal;
