@@ -72,7 +72,7 @@ void EmulatedWorker::SendLease() {
   });
 }
 
-void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& resp,
+void EmulatedWorker::OnLease(const grpc::Status& s, v1::LeaseResponse& resp,
                              Clock::time_point sent, Clock::time_point received) {
   SwarmStats& st = *env_.stats;
   ++st.lease.calls;
@@ -88,6 +88,11 @@ void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& res
     return;
   }
   st.lease.response_bytes += static_cast<int64_t>(resp.ByteSizeLong());
+  if (auto e = worker::ExpandLease(resp); !e.ok()) {
+    spdlog::error("worker={} {}", info_.worker_id(), std::string(e.message()));
+    phase_ = Phase::kStopped;  // gaitforge-worker exits 3
+    return;
+  }
   backoff_.Reset();
   lease_ms_ = resp.lease_ms();
   if (resp.jobs_size() == 0) {
@@ -97,7 +102,7 @@ void EmulatedWorker::OnLease(const grpc::Status& s, const v1::LeaseResponse& res
   }
   st.lease_ms.push_back(std::chrono::duration<double, std::milli>(received - sent).count());
   st.jobs_leased += resp.jobs_size();
-  lease_ = resp;
+  lease_.Swap(&resp);  // the call is done with it: no copy on the loop thread
   report_ = worker::StartReport(info_, lease_);
   // The objective's real result (a pure function of the job), at the drawn duration.
   double total = 0;
@@ -136,15 +141,16 @@ void EmulatedWorker::FinishBatch() {
 void EmulatedWorker::SendReport() {
   phase_ = Phase::kReporting;
   auto call = std::make_shared<Rpc<v1::ReportRequest, v1::ReportResponse>>();
-  call->req = report_;
+  call->req.Swap(&report_);  // back in OnReport (a retry sends it again)
   rpc::PrepareCall(call->ctx, worker::kReportDeadlineS, env_.token);
   inflight_ = std::shared_ptr<grpc::ClientContext>(call, &call->ctx);
   env_.stats->report.request_bytes += static_cast<int64_t>(call->req.ByteSizeLong());
   stub_->async()->Report(&call->ctx, &call->req, &call->resp,
                          [this, call, inc = incarnation_](grpc::Status s) {
                            env_.loop->Post([this, call, s, inc] {
-                             if (inc == incarnation_ && phase_ != Phase::kStopped)
-                               OnReport(s, call->resp);
+                             if (inc != incarnation_ || phase_ == Phase::kStopped) return;
+                             report_.Swap(&call->req);
+                             OnReport(s, call->resp);
                            });
                          });
 }

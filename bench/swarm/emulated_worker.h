@@ -39,13 +39,15 @@ class EmulatedWorker {
   // Stops issuing calls (end of the run).
   void Stop();
   bool idle() const { return phase_ == Phase::kStopped; }
+  // The event loop that runs this worker's steps (Kill and Stop must run there).
+  EventLoop& loop() const { return *env_.loop; }
 
  private:
   enum class Phase { kLeasing, kEvaluating, kReporting, kBackoff, kStopped };
   struct Call;  // one RPC in flight
 
   void SendLease();
-  void OnLease(const grpc::Status& s, const v1::LeaseResponse& resp, Clock::time_point sent,
+  void OnLease(const grpc::Status& s, v1::LeaseResponse& resp, Clock::time_point sent,
                Clock::time_point received);
   void FinishBatch();
   void SendReport();

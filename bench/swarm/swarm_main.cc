@@ -29,7 +29,7 @@ namespace {
 
 struct Options {
   std::string coordinator = "127.0.0.1:50051", spec, eval = "constant:0.5", token_file;
-  int workers = 16, studies = 1, max_batch = 256, seed = 1;
+  int workers = 16, studies = 1, max_batch = 256, seed = 1, loops = 2;
   int64_t coordinator_pid = 0;
   double kill_fraction = 0, kill_from_s = 2, kill_window_s = 5;
 };
@@ -43,6 +43,9 @@ absl::Status ParseOptions(int argc, char** argv, Options& o, bool& help, std::st
   f.Add("studies", &o.studies, "studies submitted at once, seeds spec.seed + 0, 1, ...");
   f.Add("workers", &o.workers, "emulated workers (1..20000)");
   f.Add("eval", &o.eval, "evaluation time: constant:S or lognormal:MEAN:SIGMA (seconds)");
+  f.Add("loops", &o.loops,
+        "event-loop threads the workers are spread over (1..64; real workers run in "
+        "parallel, one loop would serialise their steps at every generation barrier)");
   f.Add("max-batch", &o.max_batch, "most jobs per lease, as gaitforge-worker --max-batch");
   f.Add("coordinator-pid", &o.coordinator_pid, "measure this process's CPU and memory");
   f.Add("kill-fraction", &o.kill_fraction,
@@ -60,12 +63,13 @@ absl::Status ParseOptions(int argc, char** argv, Options& o, bool& help, std::st
     return absl::InvalidArgumentError("--workers is out of range [1, 20000]");
   if (o.studies < 1 || o.studies > 1000)
     return absl::InvalidArgumentError("--studies is out of range [1, 1000]");
+  if (o.loops < 1 || o.loops > 64)
+    return absl::InvalidArgumentError("--loops is out of range [1, 64]");
   return absl::OkStatus();
 }
 
 // Kills round(fraction * N) distinct workers at uniform times in the window.
-void ScheduleKills(const Options& o, EventLoop& loop,
-                   std::vector<std::unique_ptr<EmulatedWorker>>& workers) {
+void ScheduleKills(const Options& o, std::vector<std::unique_ptr<EmulatedWorker>>& workers) {
   const int kills = static_cast<int>(o.kill_fraction * o.workers + 0.5);
   std::mt19937 rng(static_cast<uint32_t>(o.seed));
   std::vector<int> order(workers.size());
@@ -74,7 +78,7 @@ void ScheduleKills(const Options& o, EventLoop& loop,
   std::uniform_real_distribution<double> when(o.kill_from_s, o.kill_from_s + o.kill_window_s);
   for (int k = 0; k < kills && k < static_cast<int>(order.size()); ++k) {
     EmulatedWorker* w = workers[order[k]].get();
-    loop.After(static_cast<int>(when(rng) * 1000), [w, k] {
+    w->loop().After(static_cast<int>(when(rng) * 1000), [w, k] {
       w->Kill(1000, absl::StrCat("swarm-", getpid(), "-reborn-", k));
     });
   }
@@ -117,17 +121,20 @@ int main(int argc, char** argv) {
   }
   const int64_t nofile = RaiseFileLimit();
   const objectives::ObjectiveRegistry registry = objectives::DefaultRegistry();
-  EventLoop loop;
-  SwarmStats stats;
-  WorkerEnv env{o.coordinator, *token, core::BuildId(), o.max_batch, &registry, &*durations,
-                &loop, &stats};
+  // Worker i runs on loop i % L, with that loop's figures (merged at the end).
+  std::vector<std::unique_ptr<EventLoop>> loops;
+  std::vector<SwarmStats> stats(o.loops);
   std::vector<std::unique_ptr<EmulatedWorker>> workers;
-  for (int i = 0; i < o.workers; ++i)
+  for (int l = 0; l < o.loops; ++l) loops.push_back(std::make_unique<EventLoop>());
+  for (int i = 0; i < o.workers; ++i) {
+    const int l = i % o.loops;
+    WorkerEnv env{o.coordinator, *token, core::BuildId(), o.max_batch, &registry, &*durations,
+                  loops[l].get(), &stats[l]};
     workers.push_back(std::make_unique<EmulatedWorker>(env, absl::StrCat("swarm-", getpid(), "-", i)));
-  std::thread loop_thread([&] { loop.Run(); });
-  loop.Post([&] {
-    for (auto& w : workers) w->Start();
-  });
+  }
+  std::vector<std::thread> loop_threads;
+  for (auto& loop : loops) loop_threads.emplace_back([&loop] { loop->Run(); });
+  for (auto& w : workers) w->loop().Post([&w] { w->Start(); });
   std::this_thread::sleep_for(std::chrono::milliseconds(500 + o.workers));  // connect
 
   RunWindow win;
@@ -139,7 +146,7 @@ int main(int argc, char** argv) {
     std::cerr << "gaitforge-swarm: " << ids.status().message() << "\n";
     _exit(1);
   }
-  if (o.kill_fraction > 0) loop.Post([&] { ScheduleKills(o, loop, workers); });
+  if (o.kill_fraction > 0) ScheduleKills(o, workers);
   WatchTraffic traffic;
   const std::vector<std::string> states = WatchToEnd(o.coordinator, *token, *ids, traffic);
   win.end = Clock::now();
@@ -148,13 +155,22 @@ int main(int argc, char** argv) {
     win.coord_cpu1 = ProcessCpuSeconds(o.coordinator_pid);
     win.coord_memory = ProcessMemory(o.coordinator_pid);
   }
-  // Stop on the loop thread, then read the figures there too.
-  std::promise<std::string> out;
-  loop.Post([&] {
-    for (auto& w : workers) w->Stop();
-    out.set_value(ReportJson(o.workers, o.eval, nofile, *ids, states, win, stats, traffic));
-  });
-  std::cout << out.get_future().get() << std::endl;
+  // Stop every worker on its loop, then the loops; the figures are read after that.
+  std::vector<std::promise<void>> stopped(loops.size());
+  for (size_t l = 0; l < loops.size(); ++l)
+    loops[l]->Post([&, l] {
+      for (size_t i = l; i < workers.size(); i += loops.size()) workers[i]->Stop();
+      stopped[l].set_value();
+    });
+  for (auto& p : stopped) p.get_future().get();
+  for (size_t l = 0; l < loops.size(); ++l) {
+    loops[l]->Stop();
+    loop_threads[l].join();
+    if (l > 0) stats[0].Merge(stats[l]);
+  }
+  stats[0].Close();
+  std::cout << ReportJson(o.workers, o.eval, nofile, *ids, states, win, stats[0], traffic)
+            << std::endl;
   bool all_completed = true;
   for (const auto& s : states) all_completed &= s == "completed";
   // Callbacks of cancelled calls may still arrive: leave without tearing the workers down.

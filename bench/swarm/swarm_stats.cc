@@ -5,6 +5,53 @@
 
 namespace gaitforge::swarm {
 
+namespace {
+
+using TimeMap = std::map<std::pair<std::string, int>, Clock::time_point>;
+
+void MergeTimes(TimeMap& into, const TimeMap& from, bool earliest) {
+  for (const auto& [key, t] : from) {
+    auto [it, fresh] = into.emplace(key, t);
+    if (!fresh) it->second = earliest ? std::min(it->second, t) : std::max(it->second, t);
+  }
+}
+
+void Add(CallCount& a, const CallCount& b) {
+  a.calls += b.calls;
+  a.failed += b.failed;
+  a.request_bytes += b.request_bytes;
+  a.response_bytes += b.response_bytes;
+}
+
+}  // namespace
+
+void SwarmStats::Merge(const SwarmStats& o) {
+  Add(lease, o.lease);
+  Add(report, o.report);
+  Add(heartbeat, o.heartbeat);
+  Add(watch, o.watch);
+  empty_leases += o.empty_leases;
+  jobs_leased += o.jobs_leased;
+  results_accepted += o.results_accepted;
+  duplicates += o.duplicates;
+  refused += o.refused;
+  kills += o.kills;
+  lease_ms.insert(lease_ms.end(), o.lease_ms.begin(), o.lease_ms.end());
+  busy.insert(busy.end(), o.busy.begin(), o.busy.end());
+  backup_busy.insert(backup_busy.end(), o.backup_busy.begin(), o.backup_busy.end());
+  MergeTimes(first_lease, o.first_lease, true);
+  MergeTimes(first_report, o.first_report, true);
+  MergeTimes(last_lease, o.last_lease, false);
+  MergeTimes(last_report, o.last_report, false);
+}
+
+void SwarmStats::Close() {
+  for (auto& [key, t] : last_report) {
+    auto next = first_lease.find({key.first, key.second + 1});
+    if (next != first_lease.end()) t = std::min(t, next->second);
+  }
+}
+
 double SwarmStats::BusySeconds(const Intervals& xs, Clock::time_point from,
                                Clock::time_point to) {
   double total = 0;

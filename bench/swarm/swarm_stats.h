@@ -1,5 +1,6 @@
 #pragma once
-// What the swarm measures on the wire. Touched only on the event-loop thread.
+// What the swarm measures on the wire. One per event loop, touched only on its thread;
+// merged when the loops have stopped.
 #include <cstdint>
 #include <map>
 #include <string>
@@ -32,6 +33,13 @@ struct SwarmStats {
   std::map<std::pair<std::string, int>, Clock::time_point> last_lease;
   // The first report of a generation's results landing.
   std::map<std::pair<std::string, int>, Clock::time_point> first_report;
+
+  // Adds another loop's figures: counts and samples add up, a generation's first times
+  // are the earliest and its last times the latest of the loops. Call Close() after the last.
+  void Merge(const SwarmStats& o);
+  // A loop records a generation's reports until it sees the next generation leased; with
+  // several loops, a report another loop saw after that first lease ends at it.
+  void Close();
 
   // Busy seconds inside [from, to].
   static double BusySeconds(const Intervals& xs, Clock::time_point from, Clock::time_point to);

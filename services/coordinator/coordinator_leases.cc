@@ -145,9 +145,16 @@ void Coordinator::Deliver(Delivery d) {
   if (!d.error.ok()) return d.done(d.error);
   v1::LeaseResponse out;
   out.set_lease_ms(static_cast<int32_t>(d.lease_ms));
+  std::vector<const v1::Job*> contexts;  // one per study (a lease holds a few at most)
   for (const Granted& g : d.granted) {
+    if (std::find(contexts.begin(), contexts.end(), g.prototype.get()) == contexts.end()) {
+      contexts.push_back(g.prototype.get());
+      v1::StudyContext* ctx = out.add_studies();
+      ctx->set_study_id(g.lease.key.study_id);
+      *ctx->mutable_objective() = g.prototype->objective();
+      *ctx->mutable_bounds() = g.prototype->bounds();
+    }
     auto* job = out.add_jobs();
-    *job = *g.prototype;
     job->mutable_key()->set_study_id(g.lease.key.study_id);
     job->mutable_key()->set_generation(g.lease.key.generation);
     job->mutable_key()->set_member(g.lease.key.member);

@@ -222,6 +222,7 @@ int main(int argc, char** argv) {
   // A port another process listens on is refused, not shared (SO_REUSEPORT is gRPC's
   // default on Linux: a second coordinator would bind beside the first).
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_BDP_PROBE, 0);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
     auto why = coordinator::TryBind(*address);

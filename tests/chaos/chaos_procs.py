@@ -48,14 +48,15 @@ for _s in (signal.SIGTERM, signal.SIGHUP):
     signal.signal(_s, _on_signal)
 
 
-def spawn(argv, log_path, prefix=None):
-    """Starts argv (after `prefix`, e.g. ['ip', 'netns', 'exec', NS]), output to log_path."""
+def spawn(argv, log_path, prefix=None, new_session=True):
+    """Starts argv (after `prefix`, e.g. ['ip', 'netns', 'exec', NS]), output to log_path,
+    in a session of its own unless `new_session` is False."""
     full = list(prefix or []) + list(argv)
     with open(log_path, "ab") as log:
         log.write(("\n### %s harness: start %s\n" % (time.strftime("%H:%M:%S"), " ".join(full))).encode())
         log.flush()
         p = subprocess.Popen(full, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                             start_new_session=True)
+                             start_new_session=new_session)
     _ALL_PROCS.append(p)
     return p
 
@@ -118,8 +119,10 @@ def wait_port_file(path, proc, timeout=30.0):
 class Coordinator:
     """A gaitforge-coordinator that can be kill -9'd and restarted on the same port and DB."""
 
-    def __init__(self, bin_dir, workdir, db, listen_host, port, flags, prefix=None, name="coordinator"):
+    def __init__(self, bin_dir, workdir, db, listen_host, port, flags, prefix=None, name="coordinator",
+                 new_session=True):
         self.bin_dir, self.workdir, self.db = bin_dir, workdir, db
+        self.new_session = new_session
         self.host, self.port, self.flags, self.prefix = listen_host, port, list(flags), prefix
         self.log = os.path.join(workdir, name + ".log")
         self.port_file = os.path.join(workdir, name + ".port")
@@ -143,7 +146,7 @@ class Coordinator:
             argv = [os.path.join(self.bin_dir, "gaitforge-coordinator"), "--listen",
                     "%s:%d" % (self.host, self.port), "--db", self.db, "--port-file",
                     self.port_file] + self.flags
-            self.proc = spawn(argv, self.log, self.prefix)
+            self.proc = spawn(argv, self.log, self.prefix, self.new_session)
             got = wait_port_file(self.port_file, self.proc, max(1.0, end - time.monotonic()))
             if got is not None:
                 if self.port == 0:

@@ -141,7 +141,11 @@ TEST(Coordinator, JobsNameTheRobotDescriptorByHash) {
     auto lease = c->Lease(req);
     ASSERT_TRUE(lease.ok()) << lease.status();
     ASSERT_EQ(lease->jobs_size(), 2);
-    const v1::ObjectiveSpec& o = lease->jobs(0).objective();
+    // The objective goes once per lease, in the study's context, not in each job.
+    ASSERT_EQ(lease->studies_size(), 1);
+    EXPECT_FALSE(lease->jobs(0).has_objective());
+    EXPECT_EQ(lease->jobs(0).bounds_size(), 0);
+    const v1::ObjectiveSpec& o = lease->studies(0).objective();
     EXPECT_TRUE(o.robot_descriptor().empty());
     hash = o.robot_descriptor_hash();
     EXPECT_EQ(hash.size(), 64u);

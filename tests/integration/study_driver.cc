@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "workers/protocol/job_eval.h"
+#include "workers/protocol/wire.h"
 
 namespace gaitforge::testing {
 
@@ -19,6 +20,7 @@ int Drive(coordinator::Coordinator& c, const DriveOptions& o) {
     auto lease = c.Lease(lreq);
     EXPECT_TRUE(lease.ok()) << lease.status();
     if (!lease.ok() || lease->jobs_size() == 0) return reports;
+    EXPECT_TRUE(worker::ExpandLease(*lease).ok());
     v1::ReportRequest rep;
     rep.mutable_worker()->set_worker_id(o.worker_id);
     std::vector<int> idx(lease->jobs_size());

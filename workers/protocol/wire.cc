@@ -89,6 +89,22 @@ v1::HeartbeatRequest MakeHeartbeatRequest(const v1::WorkerInfo& info) {
 
 int HeartbeatIntervalMs(int lease_ms) { return std::max(200, lease_ms / 3); }
 
+absl::Status ExpandLease(v1::LeaseResponse& lease) {
+  for (v1::Job& job : *lease.mutable_jobs()) {
+    if (job.has_objective()) continue;  // sent whole
+    const v1::StudyContext* ctx = nullptr;
+    for (const auto& c : lease.studies())
+      if (c.study_id() == job.key().study_id()) ctx = &c;
+    if (!ctx)
+      return absl::DataLossError(absl::StrCat(
+          "lease: job (study '", job.key().study_id(), "', generation ", job.key().generation(),
+          ", member ", job.key().member(), ") has no objective and its study has no context"));
+    *job.mutable_objective() = ctx->objective();
+    *job.mutable_bounds() = ctx->bounds();
+  }
+  return absl::OkStatus();
+}
+
 v1::ReportRequest StartReport(const v1::WorkerInfo& info, const v1::LeaseResponse& lease) {
   v1::ReportRequest report;
   *report.mutable_worker() = info;

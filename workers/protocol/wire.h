@@ -5,6 +5,8 @@
 // same errors and back off the same way.
 #include <grpcpp/support/status.h>
 
+#include "absl/status/status.h"
+
 #include <cstdint>
 #include <random>
 #include <string>
@@ -74,6 +76,10 @@ v1::LeaseRequest MakeLeaseRequest(const v1::WorkerInfo& info, int want);
 v1::HeartbeatRequest MakeHeartbeatRequest(const v1::WorkerInfo& info);
 // How often a worker holding a batch heartbeats: max(200 ms, lease_ms / 3).
 int HeartbeatIntervalMs(int lease_ms);
+
+// Copies each job's objective and bounds in from its study's context in the lease
+// (LeaseResponse.studies); an error names a job whose study has no context there.
+absl::Status ExpandLease(v1::LeaseResponse& lease);
 
 // A report with one result per leased job, in lease order: key and lease id set, the
 // evaluation left for FillResult.

@@ -242,6 +242,11 @@ WorkerLoop::Leased WorkerLoop::Lease(v1::LeaseResponse& lease) {
     FollowCoordinator();
     return Leased::kRetry;
   }
+  if (auto e = ExpandLease(lease); !e.ok()) {
+    spdlog::error("{}", std::string(e.message()));
+    code_ = 3;
+    return Leased::kStop;
+  }
   backoff_.Reset();
   lease_ms_ = lease.lease_ms();
   return lease.jobs_size() == 0 ? Leased::kNone : Leased::kJobs;

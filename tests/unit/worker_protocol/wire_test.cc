@@ -85,5 +85,28 @@ TEST(Wire, ReportHasOneResultPerJobInLeaseOrder) {
   EXPECT_EQ(r.worker().worker_id(), "w");
 }
 
+
+TEST(Wire, ExpandLeaseCopiesEachStudysContextIntoItsJobs) {
+  v1::LeaseResponse lease;
+  for (const char* id : {"a", "b"}) {
+    v1::StudyContext* c = lease.add_studies();
+    c->set_study_id(id);
+    c->mutable_objective()->set_name(std::string("obj-") + id);
+    c->add_bounds()->set_name(std::string("gene-") + id);
+  }
+  for (const char* id : {"b", "a", "b"}) lease.add_jobs()->mutable_key()->set_study_id(id);
+  ASSERT_TRUE(ExpandLease(lease).ok());
+  EXPECT_EQ(lease.jobs(0).objective().name(), "obj-b");
+  EXPECT_EQ(lease.jobs(1).objective().name(), "obj-a");
+  ASSERT_EQ(lease.jobs(2).bounds_size(), 1);
+  EXPECT_EQ(lease.jobs(2).bounds(0).name(), "gene-b");
+
+  v1::LeaseResponse orphan;  // a job whose study sent no context: refused, named
+  orphan.add_jobs()->mutable_key()->set_study_id("c");
+  const absl::Status s = ExpandLease(orphan);
+  EXPECT_EQ(s.code(), absl::StatusCode::kDataLoss);
+  EXPECT_NE(s.message().find("study 'c'"), std::string::npos) << s.message();
+}
+
 }  // namespace
 }  // namespace gaitforge::worker
