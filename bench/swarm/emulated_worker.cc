@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "services/rpc/channel.h"
 #include "workers/protocol/job_eval.h"
 
@@ -88,18 +90,25 @@ void EmulatedWorker::OnLease(const grpc::Status& s, v1::LeaseResponse& resp,
     return;
   }
   st.lease.response_bytes += static_cast<int64_t>(resp.ByteSizeLong());
+  backoff_.Reset();
+  if (resp.jobs_size() == 0) {
+    lease_ms_ = resp.lease_ms();
+    ++st.empty_leases;
+    SendLease();
+    return;
+  }
+  TakeJobs(resp, sent, received);
+}
+
+void EmulatedWorker::TakeJobs(v1::LeaseResponse& resp, Clock::time_point sent,
+                              Clock::time_point received) {
+  SwarmStats& st = *env_.stats;
   if (auto e = worker::ExpandLease(resp); !e.ok()) {
     spdlog::error("worker={} {}", info_.worker_id(), std::string(e.message()));
     phase_ = Phase::kStopped;  // gaitforge-worker exits 3
     return;
   }
-  backoff_.Reset();
   lease_ms_ = resp.lease_ms();
-  if (resp.jobs_size() == 0) {
-    ++st.empty_leases;
-    SendLease();
-    return;
-  }
   st.lease_ms.push_back(std::chrono::duration<double, std::milli>(received - sent).count());
   st.jobs_leased += resp.jobs_size();
   lease_.Swap(&resp);  // the call is done with it: no copy on the loop thread
@@ -142,6 +151,10 @@ void EmulatedWorker::SendReport() {
   phase_ = Phase::kReporting;
   auto call = std::make_shared<Rpc<v1::ReportRequest, v1::ReportResponse>>();
   call->req.Swap(&report_);  // back in OnReport (a retry sends it again)
+  // The next batch in the same call, as gaitforge-worker asks (it stops asking only when
+  // draining, which emulated workers never do).
+  *call->req.mutable_next() =
+      worker::MakeLeaseRequest(info_, worker::WantJobs(1, mean_eval_s_, env_.max_batch));
   rpc::PrepareCall(call->ctx, worker::kReportDeadlineS, env_.token);
   inflight_ = std::shared_ptr<grpc::ClientContext>(call, &call->ctx);
   env_.stats->report.request_bytes += static_cast<int64_t>(call->req.ByteSizeLong());
@@ -150,12 +163,13 @@ void EmulatedWorker::SendReport() {
                            env_.loop->Post([this, call, s, inc] {
                              if (inc != incarnation_ || phase_ == Phase::kStopped) return;
                              report_.Swap(&call->req);
-                             OnReport(s, call->resp);
+                             OnReport(s, call->resp, call->t0);
                            });
                          });
 }
 
-void EmulatedWorker::OnReport(const grpc::Status& s, const v1::ReportResponse& resp) {
+void EmulatedWorker::OnReport(const grpc::Status& s, v1::ReportResponse& resp,
+                              Clock::time_point sent) {
   SwarmStats& st = *env_.stats;
   ++st.report.calls;
   inflight_.reset();
@@ -164,12 +178,14 @@ void EmulatedWorker::OnReport(const grpc::Status& s, const v1::ReportResponse& r
       st.report.response_bytes += static_cast<int64_t>(resp.ByteSizeLong());
       st.results_accepted += resp.accepted();
       st.duplicates += resp.duplicates();
-      const auto now = Clock::now();
+      // Stamped when sent: the answer waits for the next batch (SwarmStats::Close keeps a
+      // generation's last report at or before the next one's first lease).
       for (const auto& r : report_.results()) {
-        const auto next = std::make_pair(r.key().study_id(), r.key().generation() + 1);
-        st.first_report.emplace(std::make_pair(r.key().study_id(), r.key().generation()), now);
-        if (!st.first_lease.count(next))
-          st.last_report[{r.key().study_id(), r.key().generation()}] = now;
+        const auto gen = std::make_pair(r.key().study_id(), r.key().generation());
+        auto [first, new_first] = st.first_report.emplace(gen, sent);
+        if (!new_first) first->second = std::min(first->second, sent);
+        auto [last, new_last] = st.last_report.emplace(gen, sent);
+        if (!new_last) last->second = std::max(last->second, sent);
       }
       break;
     }
@@ -184,6 +200,7 @@ void EmulatedWorker::OnReport(const grpc::Status& s, const v1::ReportResponse& r
       return;
   }
   backoff_.Reset();
+  if (resp.lease().jobs_size() > 0) return TakeJobs(*resp.mutable_lease(), sent, Clock::now());
   SendLease();
 }
 

@@ -49,9 +49,11 @@ class EmulatedWorker {
   void SendLease();
   void OnLease(const grpc::Status& s, v1::LeaseResponse& resp, Clock::time_point sent,
                Clock::time_point received);
+  // A batch's jobs (from a Lease, or with a Report's answer): evaluated, then waited for.
+  void TakeJobs(v1::LeaseResponse& resp, Clock::time_point sent, Clock::time_point received);
   void FinishBatch();
   void SendReport();
-  void OnReport(const grpc::Status& s, const v1::ReportResponse& resp);
+  void OnReport(const grpc::Status& s, v1::ReportResponse& resp, Clock::time_point sent);
   void HeartbeatTick(uint64_t incarnation, uint64_t batch);
   void Retry(void (EmulatedWorker::*step)());
   // Wraps a continuation so that it does nothing once the worker was killed or stopped.

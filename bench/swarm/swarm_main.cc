@@ -18,6 +18,7 @@
 #include "bench/swarm/studies.h"
 #include "services/core/build_info.h"
 #include "services/core/flags.h"
+#include "services/core/logging.h"
 #include "services/rpc/channel.h"
 #include "services/spec/spec_loader.h"
 #include "services/rpc/process.h"
@@ -99,7 +100,8 @@ int main(int argc, char** argv) {
     std::cout << usage;
     return 0;
   }
-  spdlog::set_level(spdlog::level::warn);
+  // Logs to stderr: stdout carries only the JSON figures.
+  if (auto s = core::SetupLogging("gaitforge-swarm", "warn", false); !s.ok()) return 2;
   auto loaded = spec::LoadSpecFile(o.spec);
   if (!loaded.ok()) {
     std::cerr << "gaitforge-swarm: " << loaded.status().message() << "\n";
@@ -128,8 +130,8 @@ int main(int argc, char** argv) {
   for (int l = 0; l < o.loops; ++l) loops.push_back(std::make_unique<EventLoop>());
   for (int i = 0; i < o.workers; ++i) {
     const int l = i % o.loops;
-    WorkerEnv env{o.coordinator, *token, core::BuildId(), o.max_batch, &registry, &*durations,
-                  loops[l].get(), &stats[l]};
+    WorkerEnv env{o.coordinator, *token, core::BuildId(), o.max_batch, &registry,
+                  &*durations, loops[l].get(), &stats[l]};
     workers.push_back(std::make_unique<EmulatedWorker>(env, absl::StrCat("swarm-", getpid(), "-", i)));
   }
   std::vector<std::thread> loop_threads;
@@ -155,6 +157,9 @@ int main(int argc, char** argv) {
     win.coord_cpu1 = ProcessCpuSeconds(o.coordinator_pid);
     win.coord_memory = ProcessMemory(o.coordinator_pid);
   }
+  // The last generation's reports also asked for a next batch and wait for it (up to the
+  // long poll's wait): let them come back, so that their results are counted.
+  std::this_thread::sleep_for(std::chrono::milliseconds(worker::kLeaseWaitMs + 500));
   // Stop every worker on its loop, then the loops; the figures are read after that.
   std::vector<std::promise<void>> stopped(loops.size());
   for (size_t l = 0; l < loops.size(); ++l)

@@ -25,20 +25,20 @@ struct SwarmStats {
   using Intervals = std::vector<std::pair<Clock::time_point, Clock::time_point>>;
   Intervals busy;
   Intervals backup_busy;  // those spent on backup copies of stragglers (also in `busy`)
-  // Per study and generation: the last report landing and the first lease of the next one,
+  // Per study and generation: the last report sent and the first lease of the next one,
   // for the generation turnaround.
   std::map<std::pair<std::string, int>, Clock::time_point> last_report, first_lease;
   // The last lease of a generation's own jobs (not backups): first_lease to it is the time
   // the coordinator took to hand the generation out.
   std::map<std::pair<std::string, int>, Clock::time_point> last_lease;
-  // The first report of a generation's results landing.
+  // The first report of a generation's results sent.
   std::map<std::pair<std::string, int>, Clock::time_point> first_report;
 
   // Adds another loop's figures: counts and samples add up, a generation's first times
   // are the earliest and its last times the latest of the loops. Call Close() after the last.
   void Merge(const SwarmStats& o);
-  // A loop records a generation's reports until it sees the next generation leased; with
-  // several loops, a report another loop saw after that first lease ends at it.
+  // A generation's last report (a late duplicate of a backup copy, say) is kept at or
+  // before the next generation's first lease.
   void Close();
 
   // Busy seconds inside [from, to].

@@ -129,6 +129,12 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
       not_held.push_back(absl::StrCat(KeyText(k), ": no such job"));
       continue;
     }
+    if (s.results[k.member()]) {
+      // Done, perhaps stored before a restart (then it is not in this process's queue):
+      // a report sent again after its call failed lands here.
+      fate.push_back(Fate::kDuplicate);
+      continue;
+    }
     switch (queue_.Check(req.worker().worker_id(),
                          queue::JobKey{k.study_id(), k.generation(), k.member()}, r.lease_id())) {
       case queue::ReportCheck::kOpen:

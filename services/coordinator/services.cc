@@ -156,7 +156,23 @@ grpc::ServerUnaryReactor* WorkerServiceImpl::Lease(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* WorkerServiceImpl::Report(grpc::CallbackServerContext* ctx,
                                                     const v1::ReportRequest* req,
                                                     v1::ReportResponse* out) {
-  return AnswerNow(ctx, auth_.Check(ctx, Role::kWorker), [&] { return c_.Report(*req); }, out);
+  const grpc::Status auth = auth_.Check(ctx, Role::kWorker);
+  if (!req->has_next() || !auth.ok())
+    return AnswerNow(ctx, auth, [&] { return c_.Report(*req); }, out);
+  // Report, then lease the next batch in the same call (docs/protocol.md).
+  auto* reactor = new LeaseReactor(c_);
+  if (const grpc::Status s = Reply(c_.Report(*req), out); !s.ok()) {
+    reactor->Finish(s);
+    return reactor;
+  }
+  c_.LeaseAsync(
+      req->next(),
+      [reactor, out](absl::StatusOr<v1::LeaseResponse> lease) {
+        if (lease.ok()) *out->mutable_lease() = std::move(*lease);
+        reactor->Finish(grpc::Status::OK);  // the results are recorded whatever the lease
+      },
+      reactor->cancelled());
+  return reactor;
 }
 
 grpc::ServerUnaryReactor* WorkerServiceImpl::Heartbeat(grpc::CallbackServerContext* ctx,

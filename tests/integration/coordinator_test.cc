@@ -9,6 +9,8 @@
 
 #include "services/coordinator/coordinator.h"
 #include "tests/integration/study_driver.h"
+#include "workers/protocol/job_eval.h"
+#include "workers/protocol/wire.h"
 #include "tests/support/temp_dir.h"
 
 namespace gaitforge::testing {
@@ -265,6 +267,39 @@ TEST(Coordinator, ARestartedCoordinatorResumesAndEndsBitIdentical) {
   EXPECT_EQ(Dump(*c, id), Dump(*ref, rid));
   // Results stored before a restart were not evaluated again.
   EXPECT_EQ(c->GetStudy(id)->evaluations(), ref->GetStudy(rid)->evaluations());
+}
+
+// A report whose call failed while the coordinator restarted is sent again; when its
+// results had been stored before the restart it is acknowledged as duplicates, not refused
+// (the restarted process's queue does not hold jobs that are already done).
+TEST(Coordinator, AReportSentAgainAfterARestartIsADuplicate) {
+  TempDir dir;
+  core::ManualClock clock;
+  v1::ReportRequest rep;
+  {
+    auto c = Open(dir.File("d.db"), clock);
+    Create(*c, SmallSpec(4));
+    v1::LeaseRequest lreq;
+    lreq.mutable_worker()->set_worker_id("w");
+    lreq.set_max_jobs(2);
+    auto lease = c->Lease(lreq);
+    ASSERT_TRUE(lease.ok()) << lease.status();
+    ASSERT_TRUE(worker::ExpandLease(*lease).ok());
+    ASSERT_EQ(lease->jobs_size(), 2);
+    rep = worker::StartReport(lreq.worker(), *lease);
+    for (int i = 0; i < 2; ++i)
+      worker::FillResult(rep.mutable_results(i),
+                         worker::EvaluateJob(objectives::DefaultRegistry(), lease->jobs(i), {}), 0);
+    auto first = c->Report(rep);
+    ASSERT_TRUE(first.ok()) << first.status();
+    EXPECT_EQ(first->accepted(), 2);
+    c->Shutdown();
+  }
+  auto c = Open(dir.File("d.db"), clock);
+  auto again = c->Report(rep);
+  ASSERT_TRUE(again.ok()) << again.status();
+  EXPECT_EQ(again->accepted(), 0);
+  EXPECT_EQ(again->duplicates(), 2);
 }
 
 TEST(Coordinator, CancelThenResumeContinuesIdentically) {

@@ -74,6 +74,10 @@ class WorkerLoop {
   absl::StatusOr<std::string> FetchDescriptor(const std::string& hash);
   void HeartbeatLoop();
   Leased Lease(v1::LeaseResponse& lease);
+  void SetLeaseCall(grpc::ClientContext* ctx);
+  // A lease's jobs made whole (each study's context copied in) and its period noted;
+  // false (exit 3) when a job has no context.
+  bool TakeLease(v1::LeaseResponse& lease);
   // The recordings the batch names, fetched before evaluating so that a transient network
   // error delays the batch rather than changing its results; false when draining left
   // some unfetched.
@@ -83,8 +87,11 @@ class WorkerLoop {
   // is dropped and its leases expire).
   bool FillDescriptors(v1::LeaseResponse& lease);
   v1::ReportRequest Evaluate(const v1::LeaseResponse& lease, const Fetched& fetched);
-  // Reports until it lands; a draining worker gives up after about 10 s.
-  void SendReport(const v1::ReportRequest& report);
+  // Reports until it lands; a draining worker gives up after about 10 s. Unless draining,
+  // the call also asks for the next batch (ReportRequest.next: one round trip per batch);
+  // the jobs it brings go to *next. A drain cancels that wait, and the report goes again
+  // without it (a duplicate if it had landed).
+  void SendReport(v1::ReportRequest report, v1::LeaseResponse* next);
 
   const WorkerOptions& o_;
   const objectives::ObjectiveRegistry& registry_;
@@ -100,7 +107,9 @@ class WorkerLoop {
   std::atomic<int> lease_ms_{10000};
   std::atomic<bool> holding_{false}, stop_heartbeat_{false};
   std::mutex lease_mu_;
-  grpc::ClientContext* lease_ctx_ = nullptr;  // the pending Lease; guarded by lease_mu_
+  // The pending call that waits for jobs (a Lease, or a Report asking for the next
+  // batch), which a drain cancels; guarded by lease_mu_.
+  grpc::ClientContext* lease_ctx_ = nullptr;
   Backoff backoff_;
   double mean_eval_s_ = 0.0;  // running estimate of one evaluation's time
   int code_ = 0;
@@ -221,15 +230,9 @@ WorkerLoop::Leased WorkerLoop::Lease(v1::LeaseResponse& lease) {
       MakeLeaseRequest(info_, WantJobs(o_.threads, mean_eval_s_, o_.max_batch));
   grpc::ClientContext ctx;
   rpc::PrepareCall(ctx, kLeaseDeadlineS, o_.token);
-  {
-    std::lock_guard<std::mutex> l(lease_mu_);
-    lease_ctx_ = &ctx;
-  }
+  SetLeaseCall(&ctx);
   grpc::Status s = Stub()->Lease(&ctx, lreq, &lease);
-  {
-    std::lock_guard<std::mutex> l(lease_mu_);
-    lease_ctx_ = nullptr;
-  }
+  SetLeaseCall(nullptr);
   if (drain_.load() && s.error_code() == grpc::StatusCode::CANCELLED) return Leased::kStop;
   if (!s.ok()) {
     if (!Retryable(s)) {
@@ -242,14 +245,19 @@ WorkerLoop::Leased WorkerLoop::Lease(v1::LeaseResponse& lease) {
     FollowCoordinator();
     return Leased::kRetry;
   }
+  backoff_.Reset();
+  if (!TakeLease(lease)) return Leased::kStop;
+  return lease.jobs_size() == 0 ? Leased::kNone : Leased::kJobs;
+}
+
+bool WorkerLoop::TakeLease(v1::LeaseResponse& lease) {
   if (auto e = ExpandLease(lease); !e.ok()) {
     spdlog::error("{}", std::string(e.message()));
     code_ = 3;
-    return Leased::kStop;
+    return false;
   }
-  backoff_.Reset();
   lease_ms_ = lease.lease_ms();
-  return lease.jobs_size() == 0 ? Leased::kNone : Leased::kJobs;
+  return true;
 }
 
 bool WorkerLoop::FetchRecordings(const v1::LeaseResponse& lease, Fetched& fetched) {
@@ -298,19 +306,29 @@ v1::ReportRequest WorkerLoop::Evaluate(const v1::LeaseResponse& lease, const Fet
   return report;
 }
 
-void WorkerLoop::SendReport(const v1::ReportRequest& report) {
+void WorkerLoop::SendReport(v1::ReportRequest report, v1::LeaseResponse* next) {
   const int n = report.results_size();
   const auto give_up =
       Clock::now() + std::chrono::milliseconds(static_cast<int>(kDrainReportGiveUpS * 1000));
   for (;;) {
+    const bool ask = !drain_.load();
+    if (ask)
+      *report.mutable_next() =
+          MakeLeaseRequest(info_, WantJobs(o_.threads, mean_eval_s_, o_.max_batch));
+    else
+      report.clear_next();
     grpc::ClientContext ctx;
     rpc::PrepareCall(ctx, kReportDeadlineS, o_.token);
     v1::ReportResponse resp;
+    SetLeaseCall(ask ? &ctx : nullptr);
     grpc::Status s = Stub()->Report(&ctx, report, &resp);
+    SetLeaseCall(nullptr);
+    if (ask && drain_.load() && s.error_code() == grpc::StatusCode::CANCELLED) continue;
     const ReportFate fate = ClassifyReport(s);
     if (fate == ReportFate::kLanded) {
       stats_.reported += resp.accepted();
       stats_.duplicates += resp.duplicates();
+      if (ask) next->Swap(resp.mutable_lease());
       break;
     }
     if (fate == ReportFate::kDrop) {
@@ -329,6 +347,11 @@ void WorkerLoop::SendReport(const v1::ReportRequest& report) {
   backoff_.Reset();
 }
 
+void WorkerLoop::SetLeaseCall(grpc::ClientContext* ctx) {
+  std::lock_guard<std::mutex> l(lease_mu_);
+  lease_ctx_ = ctx;
+}
+
 int WorkerLoop::Run(WorkerStats* stats_out) {
   bool drained = false;
   if (!Connect(drained)) return 2;
@@ -338,14 +361,19 @@ int WorkerLoop::Run(WorkerStats* stats_out) {
                copts_.target);
   std::thread heartbeat([this] { HeartbeatLoop(); });
   auto last_work = Clock::now();
-  while (!drain_.load()) {
+  v1::LeaseResponse lease;
+  bool in_hand = false;  // a batch came with the last report: evaluated even when draining
+  while (in_hand || !drain_.load()) {
     if (o_.exit_when_idle_s > 0 &&
         std::chrono::duration<double>(Clock::now() - last_work).count() > o_.exit_when_idle_s)
       break;
-    v1::LeaseResponse lease;
-    const Leased leased = Lease(lease);
-    if (leased == Leased::kStop) break;
-    if (leased != Leased::kJobs) continue;
+    if (!in_hand) {
+      lease.Clear();
+      const Leased leased = Lease(lease);
+      if (leased == Leased::kStop) break;
+      if (leased != Leased::kJobs) continue;
+    }
+    in_hand = false;
     last_work = Clock::now();
     holding_ = true;
     if (!FillDescriptors(lease)) {
@@ -359,8 +387,14 @@ int WorkerLoop::Run(WorkerStats* stats_out) {
       holding_ = false;
       break;
     }
-    SendReport(Evaluate(lease, fetched));
+    v1::LeaseResponse next;
+    SendReport(Evaluate(lease, fetched), &next);
     holding_ = false;
+    if (next.jobs_size() > 0) {
+      if (!TakeLease(next)) break;
+      lease.Swap(&next);
+      in_hand = true;
+    }
   }
   stop_heartbeat_ = true;
   heartbeat.join();
