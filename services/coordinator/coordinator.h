@@ -136,9 +136,9 @@ class Coordinator {
     storage::JobCounters counters;                  // current generation's
     int last_invalid = 0;             // invalid members of the latest committed generation
     std::string last_invalid_reason;  // and their commonest reason
-    // A Job with the study's objective and bounds, which every leased job copies (built at
-    // the first lease; immutable, so it is copied outside mu_).
-    std::shared_ptr<const v1::Job> job_prototype;
+    // The study's objective and bounds, sent once per lease (built at the first lease;
+    // immutable, so it is copied outside mu_).
+    std::shared_ptr<const v1::StudyContext> context;
     // The current generation's jobs each worker has leased (cleared when the generation
     // changes), for the cap on a worker's part of a generation (PartLeft).
     int part_generation = -1;
@@ -157,7 +157,7 @@ class Coordinator {
   // What a lease grants, decided under mu_ and turned into a message outside it.
   struct Granted {
     queue::Lease lease;
-    std::shared_ptr<const v1::Job> prototype;  // the study's objective and bounds
+    std::shared_ptr<const v1::StudyContext> context;  // the study's objective and bounds
     std::vector<double> genes;
   };
   struct Delivery {

@@ -122,21 +122,22 @@ std::vector<Coordinator::Granted> Coordinator::Grant(const std::vector<queue::Le
       }
       ++s.leased_by_worker[worker_id];
     }
-    if (!s.job_prototype) {
-      auto proto = std::make_shared<v1::Job>();
-      *proto->mutable_objective() = s.spec.objective();
-      *proto->mutable_bounds() = s.spec.bounds();
+    if (!s.context) {
+      auto ctx = std::make_shared<v1::StudyContext>();
+      ctx->set_study_id(s.id);
+      *ctx->mutable_objective() = s.spec.objective();
+      *ctx->mutable_bounds() = s.spec.bounds();
       // The descriptor goes by content hash: a worker fetches its text once (GetRobot),
-      // rather than in every job of every batch.
-      if (v1::ObjectiveSpec* o = proto->mutable_objective(); !o->robot_descriptor().empty()) {
+      // rather than in every lease.
+      if (v1::ObjectiveSpec* o = ctx->mutable_objective(); !o->robot_descriptor().empty()) {
         const std::string hash = recording::ContentHash(o->robot_descriptor(), "");
         robot_texts_.emplace(hash, o->robot_descriptor());
         o->set_robot_descriptor_hash(hash);
         o->clear_robot_descriptor();
       }
-      s.job_prototype = std::move(proto);
+      s.context = std::move(ctx);
     }
-    granted.push_back({lease, s.job_prototype, s.engine->Ask()[lease.key.member].genes});
+    granted.push_back({lease, s.context, s.engine->Ask()[lease.key.member].genes});
   }
   return granted;
 }
@@ -145,14 +146,11 @@ void Coordinator::Deliver(Delivery d) {
   if (!d.error.ok()) return d.done(d.error);
   v1::LeaseResponse out;
   out.set_lease_ms(static_cast<int32_t>(d.lease_ms));
-  std::vector<const v1::Job*> contexts;  // one per study (a lease holds a few at most)
+  std::vector<const v1::StudyContext*> sent;  // one context per study (a lease holds few)
   for (const Granted& g : d.granted) {
-    if (std::find(contexts.begin(), contexts.end(), g.prototype.get()) == contexts.end()) {
-      contexts.push_back(g.prototype.get());
-      v1::StudyContext* ctx = out.add_studies();
-      ctx->set_study_id(g.lease.key.study_id);
-      *ctx->mutable_objective() = g.prototype->objective();
-      *ctx->mutable_bounds() = g.prototype->bounds();
+    if (std::find(sent.begin(), sent.end(), g.context.get()) == sent.end()) {
+      sent.push_back(g.context.get());
+      *out.add_studies() = *g.context;
     }
     auto* job = out.add_jobs();
     job->mutable_key()->set_study_id(g.lease.key.study_id);

@@ -1,6 +1,6 @@
 #pragma once
-// The analytic objective family over any search space (the 13-gene caterpillar space by
-// default): sphere, ellipsoid, Rosenbrock and Rastrigin of the genes mapped to z in
+// The analytic objective family over any search space (the study's bounds; the default
+// space is the objective catalog's, services/core/objective_catalog.cc): sphere, ellipsoid, Rosenbrock and Rastrigin of the genes mapped to z in
 // [-5, 5), with the optimum shifted off the centre. For tests and benchmarks: exact,
 // cheap, and with known optima. docs/objectives.md gives the formulas.
 #include <vector>

@@ -11,7 +11,7 @@
 // descriptor, and nuisance.time_offset_s (recording time t is simulated time t + offset).
 // Params: settle_cycles 0..20 (the robot's simulation.settle_cycles), max_shift_samples,
 // timestep_ms (the robot's simulation.timestep_s), z_weight, min_distance_m. Options: error,
-// metric, channels, weights. Metrics as caterpillar.calibration's.
+// metric, channels, weights. Metrics: docs/calibration.md, "Metrics".
 #include "workers/objectives/objective.h"
 
 namespace gaitforge::generic {
