@@ -226,6 +226,9 @@ class Coordinator {
   // Smoothed time from lease to report of a batch; leases last 5x this (at least
   // options_.lease_ms).
   double batch_ms_ewma_ = 0;                               // GUARDED_BY(mu_)
+  // Smoothed time one job takes a worker (its reported eval_seconds): the queue's measure
+  // of a straggler (JobQueue::set_job_ms).
+  double job_ms_ewma_ = 0;                                 // GUARDED_BY(mu_)
   bool shutdown_ = false;                                  // GUARDED_BY(mu_)
   std::list<Waiter> waiters_;                              // GUARDED_BY(mu_)
   bool wake_ = false;         // jobs may be there for waiters; GUARDED_BY(mu_)

@@ -197,13 +197,14 @@ absl::StatusOr<v1::ReportResponse> Coordinator::Report(const v1::ReportRequest& 
     batch_ms_ewma_ = batch_ms_ewma_ == 0 ? batch_ms : 0.8 * batch_ms_ewma_ + 0.2 * batch_ms;
     queue_.set_lease_ms(std::clamp<int64_t>(static_cast<int64_t>(5 * batch_ms_ewma_),
                                             options_.lease_ms, 3600000));
-    // A straggler is a job out for twice the usual batch time (at least --backup-after-ms):
-    // with a fixed threshold near the batch time, every batch's last jobs were backed up
-    // just before they landed, and the copies delayed the next generation (issue 30).
-    if (options_.backup_after_ms > 0)
-      queue_.set_backup_after_ms(
-          std::max<int64_t>(options_.backup_after_ms, static_cast<int64_t>(2 * batch_ms_ewma_)));
   }
+  // What one job takes a worker, for the queue's straggler test (JobQueue::set_job_ms).
+  for (const auto& r : req.results()) {
+    if (r.eval_seconds() <= 0) continue;
+    const double ms = 1000 * r.eval_seconds();
+    job_ms_ewma_ = job_ms_ewma_ == 0 ? ms : 0.9 * job_ms_ewma_ + 0.1 * ms;
+  }
+  queue_.set_job_ms(job_ms_ewma_);
   if (out.accepted() > 0) Bump();
   return out;
 }

@@ -11,13 +11,13 @@ void JobQueue::SetState(const JobKey& key, Job& job, State state) {
   if (job.state == State::kPending) --pending_count_;
   if (job.state == State::kLeased) {
     --leased_count_;
-    if (!job.backed_up) stragglers_.erase({job.first_leased_ms, key});
+    if (!job.backed_up) Unstraggle(key, job);
   }
   job.state = state;
   if (state == State::kPending) ++pending_count_;
   if (state == State::kLeased) {
     ++leased_count_;
-    if (!job.backed_up) stragglers_.insert({job.first_leased_ms, key});
+    if (!job.backed_up) stragglers_[job.batch].insert({job.first_leased_ms, key});
   }
 }
 
@@ -44,6 +44,7 @@ void JobQueue::Add(const JobKey& key) {
 std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_jobs,
                                        const std::function<bool(const JobKey&)>& accept) {
   std::vector<Lease> out;
+  std::vector<JobKey> batch;
   const int64_t now = clock_.NowMs();
   auto grant = [&](const JobKey& key, Job& job, bool backup) {
     const uint64_t id = NextLeaseId();
@@ -53,12 +54,13 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
     issued_[id] = Issued{key, worker_id, now};
     if (job.state == State::kPending) {
       job.first_leased_ms = now;
+      job.batch = static_cast<int>(batch.size());
       SetState(key, job, State::kLeased);
     }
     ++counters_.leased;
     out.push_back(Lease{key, id, backup});
   };
-  for (auto it = pending_.begin(); it != pending_.end() && static_cast<int>(out.size()) < max_jobs;) {
+  for (auto it = pending_.begin(); it != pending_.end() && static_cast<int>(batch.size()) < max_jobs;) {
     auto j = jobs_.find(*it);
     if (j == jobs_.end() || j->second.state != State::kPending) {
       it = pending_.erase(it);
@@ -68,27 +70,52 @@ std::vector<Lease> JobQueue::LeaseJobs(const std::string& worker_id, int max_job
       ++it;
       continue;
     }
-    grant(*it, j->second, false);
+    batch.push_back(*it);
     it = pending_.erase(it);
   }
+  for (const auto& key : batch) grant(key, jobs_.at(key), false);
   if (!out.empty() || options_.backup_after_ms <= 0) return out;
-  // Nothing pending for this worker: back up the oldest stragglers it does not hold.
-  std::vector<JobKey> chosen;
-  for (const auto& [first_ms, key] : stragglers_) {
-    if (static_cast<int>(chosen.size()) >= max_jobs || now - first_ms < options_.backup_after_ms)
-      break;
-    const Job& job = jobs_.at(key);
-    const bool mine = std::any_of(job.holders.begin(), job.holders.end(),
-                                  [&](const Holder& h) { return h.worker_id == worker_id; });
-    if (!mine && accept(key)) chosen.push_back(key);
-  }
-  for (const auto& key : chosen) {
+  // Nothing pending for this worker: back up the longest overdue stragglers it does not hold.
+  for (const auto& key : Overdue(worker_id, max_jobs, accept)) {
     Job& job = jobs_.at(key);
-    stragglers_.erase({job.first_leased_ms, key});
+    Unstraggle(key, job);
     job.backed_up = true;
     ++counters_.backups;
     grant(key, job, true);
   }
+  return out;
+}
+
+void JobQueue::Unstraggle(const JobKey& key, const Job& job) {
+  auto group = stragglers_.find(job.batch);
+  if (group == stragglers_.end()) return;
+  group->second.erase({job.first_leased_ms, key});
+  if (group->second.empty()) stragglers_.erase(group);
+}
+
+std::vector<JobKey> JobQueue::Overdue(const std::string& worker_id, int max_jobs,
+                                      const std::function<bool(const JobKey&)>& accept) const {
+  const int64_t now = clock_.NowMs();
+  std::vector<std::pair<int64_t, JobKey>> late;  // (how late, job)
+  for (const auto& [batch, jobs] : stragglers_) {
+    const int64_t after = std::max<int64_t>(
+        options_.backup_after_ms,
+        static_cast<int64_t>(kStragglerFactor * job_ms_ * static_cast<double>(batch)));
+    int taken = 0;
+    for (const auto& [first_ms, key] : jobs) {  // oldest first: stop at the first in time
+      if (taken >= max_jobs || now - first_ms < after) break;
+      const Job& job = jobs_.at(key);
+      const bool mine = std::any_of(job.holders.begin(), job.holders.end(),
+                                    [&](const Holder& h) { return h.worker_id == worker_id; });
+      if (mine || !accept(key)) continue;
+      late.push_back({now - first_ms - after, key});
+      ++taken;
+    }
+  }
+  std::sort(late.begin(), late.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<JobKey> out;
+  for (size_t i = 0; i < late.size() && static_cast<int>(i) < max_jobs; ++i)
+    out.push_back(late[i].second);
   return out;
 }
 

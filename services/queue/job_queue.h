@@ -30,7 +30,8 @@ struct QueueOptions {
   // A job whose lease expired this many times is closed as poisoned.
   int max_attempts = 3;
   // Hand out a backup copy of a leased job when the queue is otherwise empty and the job
-  // has been out this long; at most one backup per job. 0 disables backups.
+  // has been out this long, and kStragglerFactor times as long as its batch should take
+  // (see set_job_ms); at most one backup per job. 0 disables backups.
   int64_t backup_after_ms = 2000;
 };
 
@@ -96,7 +97,13 @@ class JobQueue {
   int64_t lease_ms() const { return options_.lease_ms; }
   void set_lease_ms(int64_t ms) { options_.lease_ms = ms; }
   int64_t backup_after_ms() const { return options_.backup_after_ms; }
-  void set_backup_after_ms(int64_t ms) { options_.backup_after_ms = ms; }
+  // The typical time one job takes a worker, from the workers' reports: a job leased in a
+  // batch of n is a straggler once out kStragglerFactor * n times this (at least
+  // backup_after_ms). A single threshold for every job backed up the last job of each
+  // long batch while short batches had pulled the typical time down: the first worker
+  // back then ran a needless copy and missed the next generation's start (issue 30).
+  void set_job_ms(double ms) { job_ms_ = ms; }
+  static constexpr double kStragglerFactor = 2.0;
   uint32_t epoch() const { return epoch_; }
 
  private:
@@ -110,6 +117,7 @@ class JobQueue {
     State state = State::kPending;
     int attempts = 0;  // leases that expired
     int64_t first_leased_ms = 0;
+    int batch = 1;  // how many jobs its lease held (the worker runs them one by one)
     bool backed_up = false;
     std::vector<Holder> holders;  // active leases
     std::vector<uint64_t> lease_ids;  // every lease id issued for it (keys of issued_)
@@ -125,6 +133,11 @@ class JobQueue {
   void SetState(const JobKey& key, Job& job, State state);
   // Drops a holder's entry from the per-worker index.
   void Unhold(const std::string& worker_id, const JobKey& key);
+  // Drops a job from the backup candidates.
+  void Unstraggle(const JobKey& key, const Job& job);
+  // Up to max_jobs candidates for a backup copy to the worker, the latest first.
+  std::vector<JobKey> Overdue(const std::string& worker_id, int max_jobs,
+                              const std::function<bool(const JobKey&)>& accept) const;
   // Erases every trace of a job from the indexes (the job itself stays in jobs_).
   void Unindex(const JobKey& key, Job& job);
   // Forgets the matching jobs (and with forget_leases, the lease ids issued for them).
@@ -146,8 +159,10 @@ class JobQueue {
   // that a thousand workers' leases and heartbeats stay cheap (docs/scaling.md).
   size_t pending_count_ = 0;  // jobs in kPending
   size_t leased_count_ = 0;   // jobs in kLeased
-  // Leased jobs without a backup copy yet, oldest lease first: the backup candidates.
-  std::set<std::pair<int64_t, JobKey>> stragglers_;
+  // Leased jobs without a backup copy yet, the backup candidates: by the size of the batch
+  // they were leased in, oldest lease first.
+  std::map<int, std::set<std::pair<int64_t, JobKey>>> stragglers_;
+  double job_ms_ = 0;
   // The jobs each worker holds a lease on (what Heartbeat renews).
   std::map<std::string, std::set<JobKey>> held_;
 };

@@ -178,6 +178,22 @@ TEST_F(JobQueueTest, BackupsGoToTheOldestStragglersOnce) {
   EXPECT_TRUE(q_.LeaseJobs("w5", 5, kAll).empty());  // one backup per job
 }
 
+// A job is a straggler against what its batch should take (issue 30): the last of ten
+// 100 ms jobs is not late at 1.5 s, while a single job out that long is.
+TEST_F(JobQueueTest, AStragglerIsLateForItsBatchNotForAFixedTime) {
+  q_.set_job_ms(100);
+  AddJobs(11);
+  auto ten = q_.LeaseJobs("w1", 10, kAll);  // a straggler after 2 x 10 x 100 ms
+  auto one = q_.LeaseJobs("w2", 1, kAll);   // after 500 ms (backup_after_ms)
+  ASSERT_EQ(ten.size(), 10u);
+  clock_.Advance(1500);
+  auto b = q_.LeaseJobs("w3", 20, kAll);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].key, one[0].key);
+  clock_.Advance(600);
+  EXPECT_EQ(q_.LeaseJobs("w3", 20, kAll).size(), 10u);
+}
+
 TEST_F(JobQueueTest, RemoveGenerationForgetsItsLeaseIdsButRemoveStudyKeepsThem) {
   q_.Add(JobKey{"s", 0, 0});
   q_.Add(JobKey{"t", 0, 0});
