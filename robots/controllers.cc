@@ -148,6 +148,13 @@ std::vector<double> CpgAt(const Controller& c, const std::vector<double>& genes,
   return ControllerRun(c, genes).At(t);
 }
 
+// hold: no genes; every actuator held at 0 (a servo's straight set-point).
+std::vector<Gene> HoldGenes(const Controller&) { return {}; }
+double HoldPeriod(const std::vector<double>&) { return 1.0; }
+std::vector<double> HoldCommands(const Controller& c, const std::vector<double>&, double) {
+  return std::vector<double>(c.actuators.size(), 0.0);
+}
+
 }  // namespace
 
 ControllerRun::ControllerRun(const Controller& c, std::vector<double> genes)
@@ -172,6 +179,13 @@ const std::vector<ControllerKind>& ControllerKinds() {
        &PhaseOnOffPeriod,
        &PhaseOnOffCommands,
        false},
+      {"hold",
+       "no gait: every actuator holds its zero set-point, no genes (a passive structure, "
+       "or one whose motion comes from its start or from gravity); a cycle is 1 s",
+       {},
+       &HoldGenes,
+       &HoldPeriod,
+       &HoldCommands},
       {"sine",
        "a sine per actuator about an offset at one shared frequency: genes f, then per "
        "actuator amp_, off_, phase_ (paper 001)",

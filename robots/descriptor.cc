@@ -107,14 +107,22 @@ std::vector<std::string> RobotDescriptor::CalibratableNames() const {
   return names;
 }
 
+std::vector<std::string> Joint::AngleFields() const {
+  if (type == "universal") return {"angle1", "angle2"};
+  if (type == "fixed") return {};
+  return {"angle"};
+}
+
 std::vector<std::string> RobotDescriptor::Channels() const {
   std::vector<std::string> out;
   for (const auto& s : sensors) {
     for (const auto& n : s.names) {
       if (s.kind == "marker") {
         for (const auto& axis : s.axes) out.push_back(absl::StrCat(n, ".", axis));
+      } else if (const Joint* j = FindJoint(n); j != nullptr) {
+        for (const auto& field : j->AngleFields()) out.push_back(absl::StrCat(n, ".", field));
       } else {
-        out.push_back(absl::StrCat(n, ".angle"));
+        out.push_back(absl::StrCat(n, ".angle"));  // a dedicated model's joint
       }
     }
   }

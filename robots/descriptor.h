@@ -136,15 +136,25 @@ struct Body {
   Mark mark;
 };
 
+// The body name a joint uses for the fixed world frame (a robot's base bolted down).
+inline constexpr const char* kWorldBody = "world";
+
 struct Joint {
   std::string name;
-  std::string type;             // "hinge", or "fixed" (welded as built: no other field)
-  std::string body1, body2;     // body names; body2 turns relative to body1
+  // "hinge"; "universal": two axes, `axis` fixed in body1 and `axis2` in body2 (a bend in
+  // two directions, as a continuum arm's lumps); "fixed": welded as built, no other field.
+  std::string type;
+  std::string body1, body2;     // body names; body2 turns relative to body1 (body1 may be kWorldBody)
   Vec3Expr anchor;              // m, world frame at the start
   std::array<double, 3> axis{}; // unit vector, world frame at the start
-  std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad
-  std::optional<Expr> lo, hi;   // stops, rad
+  std::array<double, 3> axis2{};  // universal: the second axis, perpendicular to axis
+  std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad (about axis)
+  std::optional<Expr> stiffness2, damping2, rest2;  // universal: about axis2
+  std::optional<Expr> lo, hi;   // stops, rad (hinge only)
   Mark mark;
+  // Its angle channels' suffixes: "angle" for a hinge, "angle1" and "angle2" for a
+  // universal joint, none for a fixed one.
+  std::vector<std::string> AngleFields() const;
 };
 
 struct Actuator {

@@ -121,9 +121,12 @@ Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescrip
   if (Status s = f.CheckMap(node, "controller", allowed); !s.ok()) return s;
   Controller& c = d.controller;
   c.kind = *kind;
-  auto acts = f.StringList(node["actuators"], "controller.actuators");
-  if (!acts.ok()) return acts.status();
-  c.actuators = *acts;
+  // A kind without ranges (hold) may drive nothing: then `actuators` is left out.
+  if (node["actuators"] || !k->range_keys.empty()) {
+    auto acts = f.StringList(node["actuators"], "controller.actuators");
+    if (!acts.ok()) return acts.status();
+    c.actuators = *acts;
+  }
   if (k->actuators > 0 && static_cast<int>(c.actuators.size()) != k->actuators)
     return f.Error(node["actuators"], "controller.actuators",
                    absl::StrCat("kind ", c.kind, " drives exactly ", k->actuators, " actuators, got ",
@@ -197,7 +200,7 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
     return f.Error(node, path, "axes, spacing, bodies and offset belong to markers");
   } else {
     for (const auto& n : s.names)
-      if (const Joint* j = d.FindJoint(n); !d.joints.empty() && (j == nullptr || j->type != "hinge"))
+      if (const Joint* j = d.FindJoint(n); !d.joints.empty() && (j == nullptr || j->type == "fixed"))
         return f.Error(node["names"], path + ".names",
                        absl::StrCat(j ? "a fixed joint has no angle: '" : "no joint named '", n, "'"));
   }

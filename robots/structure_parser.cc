@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
@@ -72,6 +73,9 @@ Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& pa
   b.name = *name;
   if (Status s = CheckNewName(f, n["name"], path + ".name", b.name, d.FindBody(b.name)); !s.ok())
     return s;
+  if (b.name == kWorldBody)
+    return f.Error(n["name"], path + ".name",
+                   absl::StrCat("'", kWorldBody, "' names the fixed world frame in joints, not a body"));
   auto shape = f.String(n["shape"], path + ".shape");
   if (!shape.ok()) return shape.status();
   if (*shape != "box") return f.Error(n["shape"], path + ".shape", "must be box");
@@ -86,11 +90,14 @@ Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& pa
   return absl::OkStatus();
 }
 
+// A joint's body; `world_ok`: or kWorldBody, the fixed world frame.
 Status ReadBodyName(const YamlFields& f, const YAML::Node& node, const std::string& path,
-                    const RobotDescriptor& d, std::string& out) {
+                    const RobotDescriptor& d, std::string& out, bool world_ok = false) {
   auto name = f.String(node, path);
   if (!name.ok()) return name.status();
-  if (d.FindBody(*name) == nullptr) {
+  if (*name == kWorldBody && !world_ok)
+    return f.Error(node, path, absl::StrCat("the world frame may only be a joint's first body"));
+  if (*name != kWorldBody && d.FindBody(*name) == nullptr) {
     std::vector<std::string> known;
     for (const auto& b : d.bodies) known.push_back(b.name);
     return f.Error(node, path, absl::StrCat("no body named '", *name, "' (bodies: ",
@@ -115,10 +122,48 @@ Status ParseAxis(const YamlFields& f, const YAML::Node& node, const std::string&
   return absl::OkStatus();
 }
 
+// A universal joint's spring field: one expression for both axes, or [AXIS1, AXIS2].
+Status ReadPair(const YamlFields& f, const YAML::Node& n, const std::string& key,
+                const std::string& path, const RobotDescriptor& d, std::optional<Expr>& first,
+                std::optional<Expr>& second) {
+  const YAML::Node node = n[key];
+  if (!node) return absl::OkStatus();
+  if (!node.IsSequence()) {
+    if (Status s = ReadOptional(f, n, key, path, d, first); !s.ok()) return s;
+    second = first;
+    return absl::OkStatus();
+  }
+  if (node.size() != 2)
+    return f.Error(node, JoinPath(path, key), "must be one value for both axes or [AXIS1, AXIS2]");
+  Expr a, b;
+  if (Status s = ReadExpr(f, node[0], JoinPath(path, key) + "[0]", d, a); !s.ok()) return s;
+  if (Status s = ReadExpr(f, node[1], JoinPath(path, key) + "[1]", d, b); !s.ok()) return s;
+  first = a;
+  second = b;
+  return absl::OkStatus();
+}
+
+// A universal joint's second axis and its springs (its stops are not supported).
+Status ParseUniversal(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                      const RobotDescriptor& d, Joint& j) {
+  if (n["lo"] || n["hi"])
+    return f.Error(n["lo"] ? n["lo"] : n["hi"], path,
+                   "a universal joint takes no stops (lo, hi); only a hinge does");
+  if (Status s = ParseAxis(f, n["axis2"], path + ".axis2", j.axis2); !s.ok()) return s;
+  const double dot = j.axis[0] * j.axis2[0] + j.axis[1] * j.axis2[1] + j.axis[2] * j.axis2[2];
+  if (std::fabs(dot) > 1e-9)
+    return f.Error(n["axis2"], path + ".axis2", "must be perpendicular to axis");
+  for (auto [key, first, second] :
+       {std::tuple{"stiffness", &j.stiffness, &j.stiffness2},
+        std::tuple{"damping", &j.damping, &j.damping2}, std::tuple{"rest", &j.rest, &j.rest2}})
+    if (Status s = ReadPair(f, n, key, path, d, *first, *second); !s.ok()) return s;
+  return absl::OkStatus();
+}
+
 Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& path,
                   RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "stiffness",
-                                      "damping", "rest", "lo", "hi"});
+  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "axis2",
+                                      "stiffness", "damping", "rest", "lo", "hi"});
       !s.ok())
     return s;
   Joint j;
@@ -130,13 +175,14 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
     return s;
   auto type = f.String(n["type"], path + ".type");
   if (!type.ok()) return type.status();
-  if (*type != "hinge" && *type != "fixed")
-    return f.Error(n["type"], path + ".type", "must be hinge or fixed");
+  if (*type != "hinge" && *type != "universal" && *type != "fixed")
+    return f.Error(n["type"], path + ".type", "must be hinge, universal or fixed");
   j.type = *type;
   const YAML::Node bodies = n["bodies"];
   if (!bodies.IsSequence() || bodies.size() != 2)
     return f.Error(bodies, path + ".bodies", "must be [BODY1, BODY2]");
-  if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, j.body1); !s.ok()) return s;
+  if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, j.body1, true); !s.ok())
+    return s;
   if (Status s = ReadBodyName(f, bodies[1], path + ".bodies[1]", d, j.body2); !s.ok()) return s;
   if (j.body1 == j.body2) return f.Error(bodies, path + ".bodies", "must name two bodies");
   if (j.type == "fixed") {
@@ -147,6 +193,12 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
   }
   if (Status s = ReadVec(f, n["anchor"], path + ".anchor", d, j.anchor); !s.ok()) return s;
   if (Status s = ParseAxis(f, n["axis"], path + ".axis", j.axis); !s.ok()) return s;
+  if (j.type == "universal") {
+    if (Status s = ParseUniversal(f, n, path, d, j); !s.ok()) return s;
+    d.joints.push_back(std::move(j));
+    return absl::OkStatus();
+  }
+  if (n["axis2"]) return f.Error(n["axis2"], path + ".axis2", "only a universal joint has axis2");
   for (auto [key, out] : {std::pair{"stiffness", &j.stiffness}, std::pair{"damping", &j.damping},
                           std::pair{"rest", &j.rest}, std::pair{"lo", &j.lo},
                           std::pair{"hi", &j.hi}}) {

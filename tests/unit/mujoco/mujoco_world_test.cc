@@ -134,5 +134,29 @@ TEST(MujocoWorld, AGaitRunsAndIsDeterministic) {
   EXPECT_NEAR(a.weight_n, 0.045 * 9.81, 1e-6);
 }
 
+// A chain held by the world on sprung universal joints (tests/fixtures/robots/cantilever)
+// sags under gravity to the same angles, about the same axes and in the same sense, in
+// both builds: MuJoCo's two hinges per joint against ODE's universal joint.
+TEST(MujocoWorld, UniversalJointsAgreeWithTheOdeBuild) {
+  auto d = robots::LoadDescriptor(std::string(GAITFORGE_SOURCE_DIR) +
+                                  "/tests/fixtures/robots/cantilever/robot.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  generic::ParamValues v(*d);
+  ASSERT_TRUE(v.Set("joint.bend_damping_nms_per_rad", 0.01).ok());  // settle within 3 s
+  sim::InitThread();
+  auto ode = generic::GenericWorld::Build(*d, v, 0);
+  auto mj = MujocoWorld::Build(*d, v, 0);
+  ASSERT_TRUE(ode.ok()) << ode.status();
+  ASSERT_TRUE(mj.ok()) << mj.status();
+  for (auto* w : {static_cast<generic::RobotWorld*>(ode->get()), static_cast<generic::RobotWorld*>(mj->get())})
+    while (w->time() < 3) ASSERT_TRUE(w->Step({}).ok);
+  for (const std::string c : {"j1.angle1", "j2.angle1", "j3.angle1"}) {
+    const double a = *(*ode)->Channel(c), b = *(*mj)->Channel(c);
+    EXPECT_NEAR(b, a, 0.02 * std::fabs(a)) << c;
+    EXPECT_NEAR(*(*mj)->Channel(c.substr(0, 3) + "angle2"), 0, 1e-6) << c;
+  }
+  EXPECT_NEAR(*(*mj)->Channel("tip.z"), *(*ode)->Channel("tip.z"), 1e-4);
+}
+
 }  // namespace
 }  // namespace gaitforge::mujoco

@@ -216,18 +216,20 @@ TEST(Descriptor, NearestRanksByEditDistance) {
 namespace gaitforge::robots {
 namespace {
 
-// The structure sections, on the fixture robot (tests/fixtures/robots/twobox/robot.yaml).
-std::string Fixture() {
-  std::ifstream in(std::string(GAITFORGE_SOURCE_DIR) + "/tests/fixtures/robots/twobox/robot.yaml");
+// The structure sections, on the fixture robots (tests/fixtures/robots/NAME/robot.yaml).
+std::string Fixture(const std::string& name = "twobox") {
+  std::ifstream in(std::string(GAITFORGE_SOURCE_DIR) + "/tests/fixtures/robots/" + name + "/robot.yaml");
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-std::string FixtureError(const std::string& from, const std::string& to) {
-  std::string t = Fixture();
+// The parse error of fixture `name` with its first `from` replaced by `to`.
+std::string FixtureError(const std::string& from, const std::string& to,
+                         const std::string& name = "twobox") {
+  std::string t = Fixture(name);
   const size_t at = t.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   t.replace(at, from.size(), to);
-  auto d = ParseDescriptor(t, "twobox.yaml");
+  auto d = ParseDescriptor(t, name + ".yaml");
   EXPECT_FALSE(d.ok()) << from;
   return d.ok() ? "" : std::string(d.status().message());
 }
@@ -267,6 +269,47 @@ TEST(Structure, ExpressionsAndAxesAreChecked) {
               HasSubstr("is not a number, a parameter name or a sum of terms"));
   EXPECT_THAT(FixtureError("axis: [0, 1, 0]", "axis: [0, 2, 0]"), HasSubstr("must be a unit vector"));
   EXPECT_THAT(FixtureError("type: servo", "type: piston"), HasSubstr("must be servo"));
+}
+
+// Universal joints and the world frame (tests/fixtures/robots/cantilever/robot.yaml).
+std::string CantileverError(const std::string& from, const std::string& to) {
+  return FixtureError(from, to, "cantilever");
+}
+
+TEST(Structure, UniversalJointsHoldTwoAxesAndSpringsPerAxis) {
+  auto d = ParseDescriptor(Fixture("cantilever"), "cantilever.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  const Joint& j1 = d->joints[0];
+  EXPECT_EQ(j1.type, "universal");
+  EXPECT_EQ(j1.body1, kWorldBody);
+  EXPECT_EQ(j1.axis2[2], 1.0);
+  const auto value = [&](const std::string& n) { return d->Value(n); };
+  EXPECT_DOUBLE_EQ(j1.stiffness->Eval(value), 2.0);
+  EXPECT_DOUBLE_EQ(j1.stiffness2->Eval(value), 1.0);
+  EXPECT_DOUBLE_EQ(j1.damping2->Eval(value), 0.001);
+  EXPECT_FALSE(j1.rest.has_value());
+  EXPECT_THAT(d->Channels(), ElementsAre("j1.angle1", "j1.angle2", "j2.angle1", "j2.angle2",
+                                         "j3.angle1", "j3.angle2", "tip.x", "tip.y", "tip.z"));
+  EXPECT_EQ(d->controller.kind, "hold");
+  EXPECT_TRUE(d->controller.genes.empty());
+}
+
+TEST(Structure, UniversalJointAndWorldMistakesAreNamed) {
+  EXPECT_THAT(CantileverError("axis2: [0, 0, 1],", "axis2: [1, 0, 0], lo: -1, hi: 1,"),
+              HasSubstr("a universal joint takes no stops"));
+  EXPECT_THAT(CantileverError("axis2: [0, 0, 1],", "axis2: [0.6, 0.8, 0],"),
+              HasSubstr("joints[0].axis2: must be perpendicular to axis"));
+  EXPECT_THAT(CantileverError("axis2: [0, 0, 1],", ""), HasSubstr("joints[0].axis2: must be [x, y, z]"));
+  EXPECT_THAT(CantileverError("bodies: [world, l1]", "bodies: [l1, world]"),
+              HasSubstr("the world frame may only be a joint's first body"));
+  EXPECT_THAT(CantileverError("{name: l1,", "{name: world,"),
+              HasSubstr("'world' names the fixed world frame in joints, not a body"));
+  EXPECT_THAT(CantileverError("damping: [joint.bend_damping_nms_per_rad, joint.side_damping_nms_per_rad]}",
+                              "damping: [joint.bend_damping_nms_per_rad]}"),
+              HasSubstr("joints[0].damping: must be one value for both axes or [AXIS1, AXIS2]"));
+  EXPECT_THAT(CantileverError("type: universal", "type: ball"), HasSubstr("must be hinge, universal or fixed"));
+  EXPECT_THAT(FixtureError("axis: [0, 1, 0],", "axis: [0, 1, 0], axis2: [0, 0, 1],"),
+              HasSubstr("only a universal joint has axis2"));
 }
 
 TEST(Expr, ParsesLinearSums) {

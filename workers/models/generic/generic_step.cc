@@ -8,13 +8,48 @@
 
 namespace gaitforge::generic {
 
+void GenericWorld::AddUniversalSpring(dJointID j, const Spring& s) {
+  // The joint's axes and bodies as the descriptor gives them (ODE's getters undo its own
+  // swap of a joint held by the world); +t on the first body and -t on the second, the
+  // sense of a hinge's torque, with angles and rates in the sense of the first body's turn
+  // relative to the second.
+  dVector3 x1, x2;
+  dJointGetUniversalAxis1(j, x1);
+  dJointGetUniversalAxis2(j, x2);
+  const dBodyID b1 = dJointGetBody(j, 0), b2 = dJointGetBody(j, 1);
+  dReal w[3] = {0, 0, 0};
+  if (b1) for (int k = 0; k < 3; ++k) w[k] += dBodyGetAngularVel(b1)[k];
+  if (b2) for (int k = 0; k < 3; ++k) w[k] -= dBodyGetAngularVel(b2)[k];
+  const double r1 = x1[0] * w[0] + x1[1] * w[1] + x1[2] * w[2];
+  const double r2 = x2[0] * w[0] + x2[1] * w[1] + x2[2] * w[2];
+  const double t1 = -s.k * (UniversalAngle(j, 1) - s.rest) - s.c * r1;
+  const double t2 = -s.k2 * (UniversalAngle(j, 2) - s.rest2) - s.c2 * r2;
+  const dReal t[3] = {t1 * x1[0] + t2 * x2[0], t1 * x1[1] + t2 * x2[1], t1 * x1[2] + t2 * x2[2]};
+  if (b1) dBodyAddTorque(b1, t[0], t[1], t[2]);
+  if (b2) dBodyAddTorque(b2, -t[0], -t[1], -t[2]);
+}
+
+double GenericWorld::UniversalAngle(dJointID j, int axis) {
+  // Checked against the bodies' relative turn (AddUniversalSpring's rates): ODE's angle 2
+  // has that sense; its angle 1 too, but for a joint held by the world, which ODE stores
+  // with its bodies swapped, where angle 1 comes out negated.
+  if (axis == 2) return dJointGetUniversalAngle2(j);
+  return (dJointGetBody(j, 0) == nullptr ? -1.0 : 1.0) * dJointGetUniversalAngle1(j);
+}
+
 void GenericWorld::ApplyJointTorques() {
   for (size_t i = 0; i < joints_.size(); ++i) {
     const Spring& s = springs_[i];
+    const dJointID j = joints_[i];
+    if (dJointGetType(j) == dJointTypeUniversal) {
+      if (s.k == 0 && s.c == 0 && s.k2 == 0 && s.c2 == 0) continue;
+      AddUniversalSpring(j, s);
+      continue;
+    }
     if (s.k == 0 && s.c == 0) continue;  // a fixed joint's spring is {}
-    const double angle = dJointGetHingeAngle(joints_[i]);
-    const double rate = dJointGetHingeAngleRate(joints_[i]);
-    dJointAddHingeTorque(joints_[i], -s.k * (angle - s.rest) - s.c * rate);
+    const double angle = dJointGetHingeAngle(j);
+    const double rate = dJointGetHingeAngleRate(j);
+    dJointAddHingeTorque(j, -s.k * (angle - s.rest) - s.c * rate);
   }
 }
 
@@ -215,16 +250,23 @@ std::array<double, 3> GenericWorld::CentreOfMass() const {
   return c;
 }
 
-double GenericWorld::JointAngle(int joint) const {
-  return dJointGetType(joints_[joint]) == dJointTypeHinge ? dJointGetHingeAngle(joints_[joint]) : 0.0;
+double GenericWorld::JointAngle(int joint, int axis) const {
+  const dJointID j = joints_[joint];
+  switch (dJointGetType(j)) {
+    case dJointTypeHinge: return dJointGetHingeAngle(j);
+    case dJointTypeUniversal: return UniversalAngle(j, axis);
+    default: return 0.0;
+  }
 }
 
 absl::StatusOr<double> GenericWorld::Channel(const std::string& name) const {
   const size_t dot = name.rfind('.');
   const std::string base = name.substr(0, dot), field = dot == std::string::npos ? "" : name.substr(dot + 1);
-  if (field == "angle") {
-    for (size_t i = 0; i < d_.joints.size(); ++i)
-      if (d_.joints[i].name == base) return JointAngle(static_cast<int>(i));
+  for (size_t i = 0; i < d_.joints.size(); ++i) {
+    if (d_.joints[i].name != base) continue;
+    const std::vector<std::string> fields = d_.joints[i].AngleFields();
+    for (size_t a = 0; a < fields.size(); ++a)
+      if (fields[a] == field) return JointAngle(static_cast<int>(i), static_cast<int>(a) + 1);
   }
   for (const Marker& m : markers_) {
     if (m.name != base || (field != "x" && field != "y" && field != "z")) continue;

@@ -177,22 +177,28 @@ absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
 }
 
 absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
-  auto body_index = [this](const std::string& name) {
+  // A joint's body; none (0) for the world frame.
+  auto body = [this](const std::string& name) -> dBodyID {
     for (size_t i = 0; i < d_.bodies.size(); ++i)
-      if (d_.bodies[i].name == name) return static_cast<int>(i);
-    return -1;
+      if (d_.bodies[i].name == name) return bodies_[i];
+    return nullptr;
   };
   for (const robots::Joint& j : d_.joints) {
     if (j.type == "fixed") {
       dJointID weld = dJointCreateFixed(world_.world(), nullptr);
-      dJointAttach(weld, bodies_[body_index(j.body1)], bodies_[body_index(j.body2)]);
+      dJointAttach(weld, body(j.body1), body(j.body2));
       dJointSetFixed(weld);
       joints_.push_back(weld);
       springs_.push_back({});
       continue;
     }
+    if (j.type == "universal") {
+      joints_.push_back(BuildUniversal(j, body(j.body1), body(j.body2), v));
+      springs_.push_back(SpringOf(j, v));
+      continue;
+    }
     dJointID hinge = dJointCreateHinge(world_.world(), nullptr);
-    dJointAttach(hinge, bodies_[body_index(j.body1)], bodies_[body_index(j.body2)]);
+    dJointAttach(hinge, body(j.body1), body(j.body2));
     const auto anchor = Eval(j.anchor, v);
     dJointSetHingeAnchor(hinge, anchor[0], anchor[1], anchor[2]);
     dJointSetHingeAxis(hinge, j.axis[0], j.axis[1], j.axis[2]);
@@ -205,14 +211,35 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
       dJointSetHingeParam(hinge, dParamHiStop, hi);
       dJointSetHingeParam(hinge, dParamLoStop, lo);
     }
-    Spring s;
-    if (j.stiffness) s.k = Eval(*j.stiffness, v);
-    if (j.damping) s.c = Eval(*j.damping, v);
-    if (j.rest) s.rest = Eval(*j.rest, v);
     joints_.push_back(hinge);
-    springs_.push_back(s);
+    springs_.push_back(SpringOf(j, v));
   }
   return absl::OkStatus();
+}
+
+dJointID GenericWorld::BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyID b2,
+                                      const ParamValues& v) {
+  dJointID u = dJointCreateUniversal(world_.world(), nullptr);
+  dJointAttach(u, b1, b2);
+  const auto anchor = Eval(j.anchor, v);
+  dJointSetUniversalAnchor(u, anchor[0], anchor[1], anchor[2]);
+  dJointSetUniversalAxis1(u, j.axis[0], j.axis[1], j.axis[2]);
+  dJointSetUniversalAxis2(u, j.axis2[0], j.axis2[1], j.axis2[2]);
+  return u;
+}
+
+GenericWorld::Spring GenericWorld::SpringOf(const robots::Joint& j, const ParamValues& v) {
+  Spring s;
+  auto set = [&v](const std::optional<robots::Expr>& e, double& out) {
+    if (e) out = Eval(*e, v);
+  };
+  set(j.stiffness, s.k);
+  set(j.damping, s.c);
+  set(j.rest, s.rest);
+  set(j.stiffness2, s.k2);
+  set(j.damping2, s.c2);
+  set(j.rest2, s.rest2);
+  return s;
 }
 
 absl::Status GenericWorld::BuildActuators(const ParamValues& v) {

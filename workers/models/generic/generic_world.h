@@ -83,7 +83,8 @@ class GenericWorld : public RobotWorld {
   int body_count() const { return static_cast<int>(bodies_.size()); }
   // The mean of the bodies' centres, mass-weighted (m, world frame).
   std::array<double, 3> CentreOfMass() const override;
-  double JointAngle(int joint) const;
+  // A hinge's angle, or a universal joint's about its first (axis 1) or second axis (rad).
+  double JointAngle(int joint, int axis = 1) const;
   // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
   absl::StatusOr<double> Channel(const std::string& name) const override;
   int ground_contacts() const { return ground_contacts_; }
@@ -102,6 +103,7 @@ class GenericWorld : public RobotWorld {
   GenericWorld(const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s);
   absl::Status BuildBodies(const ParamValues& v);
   absl::Status BuildJoints(const ParamValues& v);
+  dJointID BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyID b2, const ParamValues& v);
   absl::Status BuildActuators(const ParamValues& v);
   void BuildMarkers(const ParamValues& v);
   void ApplyJointTorques();
@@ -113,7 +115,11 @@ class GenericWorld : public RobotWorld {
 
   struct Spring {
     double k = 0, c = 0, rest = 0;
+    double k2 = 0, c2 = 0, rest2 = 0;  // a universal joint's second axis
   };
+  static Spring SpringOf(const robots::Joint& j, const ParamValues& v);
+  void AddUniversalSpring(dJointID j, const Spring& s);
+  static double UniversalAngle(dJointID j, int axis);
   struct Servo {
     int joint = 0;
     double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0;

@@ -57,13 +57,15 @@ absl::StatusOr<Tree> MakeTree(const robots::RobotDescriptor& d, const ParamValue
     t.pose.push_back({Eval(d.bodies[i].position, v), d.bodies[i].pitch ? Eval(*d.bodies[i].pitch, v) : 0.0});
   }
   for (size_t j = 0; j < d.joints.size(); ++j) {
-    const int a = index.at(d.joints[j].body1), b = index.at(d.joints[j].body2);
-    if (t.parent[b] >= 0)
+    const int b = index.at(d.joints[j].body2);
+    if (t.joint_of[b] >= 0)
       return absl::InvalidArgumentError(absl::StrCat(
           d.joints[j].mark.ToString(), ": body ", d.joints[j].body2,
           " is the second body of two joints; a MuJoCo build needs a tree"));
-    t.parent[b] = a;
     t.joint_of[b] = static_cast<int>(j);
+    if (d.joints[j].body1 == robots::kWorldBody) continue;  // a root held by the world
+    const int a = index.at(d.joints[j].body1);
+    t.parent[b] = a;
     t.children.emplace(a, b);
   }
   for (size_t i = 0; i < n; ++i)  // a cycle leaves no root above it
@@ -81,17 +83,38 @@ struct Writer {
 
   absl::Status Body(int i, int depth);
   absl::Status Hinge(const robots::Joint& j, const Pose& child, const std::string& pad);
+  // A universal joint: two hinges in the child, the first about axis, the second about
+  // axis2 as the first has turned it, named by their channels (NAME.angle1, NAME.angle2).
+  void Universal(const robots::Joint& j, const Pose& child, const std::string& pad);
+  void OneHinge(const std::string& name, const Pose& child, const robots::Joint& j,
+                const std::array<double, 3>& axis, const std::optional<robots::Expr>& k,
+                const std::optional<robots::Expr>& rest, const std::optional<robots::Expr>& c,
+                const std::string& pad);
 };
 
-absl::Status Writer::Hinge(const robots::Joint& j, const Pose& child, const std::string& pad) {
+void Writer::OneHinge(const std::string& name, const Pose& child, const robots::Joint& j,
+                      const std::array<double, 3>& axis, const std::optional<robots::Expr>& k,
+                      const std::optional<robots::Expr>& rest,
+                      const std::optional<robots::Expr>& c, const std::string& pad) {
   // MuJoCo's hinge turns the child about the axis; ODE's angle (generic_world) is measured
   // the other way round, so the axis is reversed and both report the same angle.
-  const std::array<double, 3> axis = child.ToLocal({-j.axis[0], -j.axis[1], -j.axis[2]});
-  out << pad << "<joint name=\"" << j.name << "\" type=\"hinge\" pos=\""
-      << Vec(child.PointToLocal(Eval(j.anchor, v))) << "\" axis=\"" << Vec(axis) << "\"";
-  if (j.stiffness) out << " stiffness=\"" << Num(Eval(*j.stiffness, v)) << "\"";
-  if (j.rest) out << " springref=\"" << Num(Eval(*j.rest, v)) << "\"";
-  if (j.damping) out << " damping=\"" << Num(Eval(*j.damping, v)) << "\"";
+  out << pad << "<joint name=\"" << name << "\" type=\"hinge\" pos=\""
+      << Vec(child.PointToLocal(Eval(j.anchor, v))) << "\" axis=\""
+      << Vec(child.ToLocal({-axis[0], -axis[1], -axis[2]})) << "\"";
+  if (k) out << " stiffness=\"" << Num(Eval(*k, v)) << "\"";
+  if (rest) out << " springref=\"" << Num(Eval(*rest, v)) << "\"";
+  if (c) out << " damping=\"" << Num(Eval(*c, v)) << "\"";
+}
+
+void Writer::Universal(const robots::Joint& j, const Pose& child, const std::string& pad) {
+  OneHinge(j.name + ".angle1", child, j, j.axis, j.stiffness, j.rest, j.damping, pad);
+  out << "/>\n";
+  OneHinge(j.name + ".angle2", child, j, j.axis2, j.stiffness2, j.rest2, j.damping2, pad);
+  out << "/>\n";
+}
+
+absl::Status Writer::Hinge(const robots::Joint& j, const Pose& child, const std::string& pad) {
+  OneHinge(j.name, child, j, j.axis, j.stiffness, j.rest, j.damping, pad);
   if (j.lo || j.hi) {
     const double lo = j.lo ? Eval(*j.lo, v) : -M_PI, hi = j.hi ? Eval(*j.hi, v) : M_PI;
     if (!(lo < hi))
@@ -116,10 +139,12 @@ absl::Status Writer::Body(int i, int depth) {
   out << pad << "<body name=\"" << b.name << "\" pos=\"" << Vec(pos) << "\" quat=\""
       << Num(std::cos(pitch / 2)) << " 0 " << Num(std::sin(pitch / 2)) << " 0\">\n";
   const std::string in = pad + "  ";
-  if (t.parent[i] < 0) {
+  if (t.joint_of[i] < 0) {
     out << in << "<freejoint name=\"" << b.name << "_free\"/>\n";
   } else if (const robots::Joint& j = d.joints[t.joint_of[i]]; j.type == "hinge") {
     if (absl::Status s = Hinge(j, me, in); !s.ok()) return s;
+  } else if (j.type == "universal") {
+    Universal(j, me, in);
   }
   const auto size = Eval(b.size, v);
   const double m = Eval(b.mass, v);

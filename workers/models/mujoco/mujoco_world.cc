@@ -213,10 +213,13 @@ double MujocoWorld::torque_limited_fraction() const {
 absl::StatusOr<double> MujocoWorld::Channel(const std::string& name) const {
   const size_t dot = name.rfind('.');
   const std::string base = name.substr(0, dot), field = dot == std::string::npos ? "" : name.substr(dot + 1);
-  if (field == "angle") {
-    if (const robots::Joint* j = d_.FindJoint(base)) {
-      if (j->type != "hinge") return 0.0;
-      return data_->qpos[m_->jnt_qposadr[mj_name2id(m_, mjOBJ_JOINT, base.c_str())]];
+  if (const robots::Joint* j = d_.FindJoint(base)) {
+    const std::vector<std::string> fields = j->AngleFields();
+    if (std::find(fields.begin(), fields.end(), field) != fields.end()) {
+      // A hinge is the MuJoCo joint of its name; a universal joint is two hinges named
+      // by their channels (mjcf.cc).
+      const std::string mj = j->type == "hinge" ? base : name;
+      return data_->qpos[m_->jnt_qposadr[mj_name2id(m_, mjOBJ_JOINT, mj.c_str())]];
     }
   }
   for (const Marker& mk : markers_) {
