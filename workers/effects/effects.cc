@@ -76,8 +76,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
       {"actuator.lag",
        "Actuator lag",
        "Each actuator follows its command through a first-order lag with time constant tau: "
-       "a piston's push builds and releases pressure gradually (the caterpillar's own "
-       "effect.actuator_lag_s); on the generic builder a servo's commanded angle passes this "
+       "a pneumatic piston's push builds and releases pressure gradually (a dedicated "
+       "model's effect.actuator_lag_s); on the generic builder a servo's commanded angle passes this "
        "lag before the servo's own (paper 001: servo lag; a slower or loaded servo, a "
        "filtering controller).",
        {{"effect.actuator_lag_s", 0, 0.1, 0, "s"}},

@@ -1,6 +1,6 @@
 #pragma once
 // Error measures between a recording and a simulation, as pure functions on sampled signals
-// (no ODE): the pieces of every calibration objective ("caterpillar.calibration",
+// (no ODE): the pieces of every calibration objective (a dedicated model's and
 // "robot.calibration"), after the calibration method of paper 003 (../shared/papers/003_*):
 // a phase-shift-invariant mean absolute error (its eq. 4) between signals averaged over the
 // gait period.

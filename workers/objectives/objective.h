@@ -41,7 +41,7 @@ class Objective {
 };
 
 // Objectives by catalog name (services/core/objective_catalog.h). This is where models
-// plug in: a model registers its objectives here (the caterpillar: its own issue).
+// plug in: each model registers its objectives here.
 class ObjectiveRegistry {
  public:
   void Register(const std::string& name, std::shared_ptr<const Objective> objective);
