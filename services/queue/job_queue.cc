@@ -112,7 +112,9 @@ std::vector<JobKey> JobQueue::Overdue(const std::string& worker_id, int max_jobs
       ++taken;
     }
   }
-  std::sort(late.begin(), late.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::sort(late.begin(), late.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;  // latest, then by key
+  });
   std::vector<JobKey> out;
   for (size_t i = 0; i < late.size() && static_cast<int>(i) < max_jobs; ++i)
     out.push_back(late[i].second);

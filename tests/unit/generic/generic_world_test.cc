@@ -7,6 +7,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
+#include "tests/support/fixture_robot.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/sim/ode_runtime.h"
 
@@ -15,15 +16,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const robots::RobotDescriptor& TwoBox() {
-  static const robots::RobotDescriptor d = [] {
-    auto r = robots::LoadDescriptor(std::string(GAITFORGE_SOURCE_DIR) +
-                                    "/tests/fixtures/robots/twobox/robot.yaml");
-    if (!r.ok()) throw std::runtime_error(std::string(r.status().message()));
-    return *r;
-  }();
-  return d;
-}
+const robots::RobotDescriptor& TwoBox() { return testing::FixtureRobot("twobox"); }
 
 class GenericWorldTest : public ::testing::Test {
  protected:

@@ -11,21 +11,14 @@
 
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
+#include "tests/support/fixture_robot.h"
 #include "workers/models/generic/generic_world.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::generic {
 namespace {
 
-const robots::RobotDescriptor& Cantilever() {
-  static const robots::RobotDescriptor d = [] {
-    auto r = robots::LoadDescriptor(std::string(GAITFORGE_SOURCE_DIR) +
-                                    "/tests/fixtures/robots/cantilever/robot.yaml");
-    if (!r.ok()) throw std::runtime_error(std::string(r.status().message()));
-    return *r;
-  }();
-  return d;
-}
+const robots::RobotDescriptor& Cantilever() { return testing::FixtureRobot("cantilever"); }
 
 // The tip's height (m) after each step of `seconds` from the straight start.
 std::vector<double> TipHeights(const ParamValues& v, double seconds) {
