@@ -142,7 +142,9 @@ inline constexpr const char* kWorldBody = "world";
 struct Joint {
   std::string name;
   // "hinge"; "universal": two axes, `axis` fixed in body1 and `axis2` in body2 (a bend in
-  // two directions, as a continuum arm's lumps); "fixed": welded as built, no other field.
+  // two directions, as a continuum arm's lumps); "fixed": welded as built, no other field;
+  // "spring_link": a planar robot's compliant link (plane: xz), which stretches along
+  // `axis` and bends about y, each a spring-damper (docs/robots.md).
   std::string type;
   std::string body1, body2;     // body names; body2 turns relative to body1 (body1 may be kWorldBody)
   Vec3Expr anchor;              // m, world frame at the start
@@ -151,6 +153,11 @@ struct Joint {
   std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad (about axis)
   std::optional<Expr> stiffness2, damping2, rest2;  // universal: about axis2
   std::optional<Expr> lo, hi;   // stops, rad (hinge only)
+  // spring_link: the axial spring (N/m) runs from body1's point at anchor - length * axis
+  // to body2's point at the anchor (length in m); `stiffness` is the bending spring, and
+  // both dampers are fractions of critical damping for the two bodies (axial_damping_ratio,
+  // damping_ratio).
+  std::optional<Expr> axial_stiffness, axial_damping_ratio, damping_ratio, length;
   Mark mark;
   // Its angle channels' suffixes: "angle" for a hinge, "angle1" and "angle2" for a
   // universal joint, none for a fixed one.
@@ -159,11 +166,20 @@ struct Joint {
 
 struct Actuator {
   std::string name;
-  std::string type;   // "servo": position control of a hinge
+  // "servo": position control of a hinge; "piston": a force along the line between two
+  // bodies' points, with a return spring and stroke stops (docs/robots.md).
+  std::string type;
   std::string joint;
   // servo: speed command gain (1/s) on the angle error, speed limit (rad/s), torque limit
   // (N m) and first-order lag of the commanded angle (s, 0 = none).
   Expr gain, max_speed, max_torque, lag_s;
+  // piston: between body1's point attach1 and body2's point attach2 (body frames, m); the
+  // command (0..1) times `force` (N) pushes them apart; the return spring (N/m) pulls with
+  // zero force at min_length; stops hold the length in [min_length, max_length] (m) with
+  // stop_erp and stop_cfm; a length beyond them by overrun_tolerance (m) has diverged.
+  std::string body1, body2;
+  Vec3Expr attach1, attach2;
+  Expr force, return_stiffness, min_length, max_length, stop_erp, stop_cfm, overrun_tolerance;
   Mark mark;
 };
 
@@ -201,6 +217,12 @@ struct RobotDescriptor {
   std::vector<Joint> joints;
   std::vector<Actuator> actuators;
   std::optional<Ground> ground;
+  // "xz": a planar robot, moving in the x-z plane (symmetric about it): its ground contacts
+  // sit on the boxes' centre-plane corners with friction along x only, its self-contacts
+  // are folded onto the plane. "": a 3-D robot.
+  std::string plane;
+  // Bodies not joined by a joint touch each other (frictionless); off: they pass through.
+  bool self_contact = false;
 
   const Parameter* FindParameter(std::string_view name) const;
   const Scale* FindScale(std::string_view name) const;

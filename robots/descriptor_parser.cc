@@ -254,7 +254,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   YamlFields f(source);
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "parameters",
                                        "scales", "suspects", "relations", "controller", "sensors",
-                                       "bodies", "joints", "actuators", "ground"});
+                                       "bodies", "joints", "actuators", "ground", "plane",
+                                       "self_contact"});
       !s.ok())
     return s;
   RobotDescriptor d;

@@ -160,10 +160,37 @@ Status ParseUniversal(const YamlFields& f, const YAML::Node& n, const std::strin
   return absl::OkStatus();
 }
 
+// A planar robot's compliant link: an axial and a bending spring-damper.
+Status ParseSpringLink(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                       const RobotDescriptor& d, Joint& j) {
+  if (d.plane != "xz")
+    return f.Error(n["type"], path + ".type", "a spring_link needs a planar robot (plane: xz)");
+  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "length",
+                                      "axial_stiffness", "axial_damping_ratio", "stiffness",
+                                      "damping_ratio"});
+      !s.ok())
+    return s;
+  if (j.body1 == kWorldBody)
+    return f.Error(n["bodies"], path + ".bodies", "a spring_link joins two bodies, not the world");
+  if (j.axis[1] != 0)
+    return f.Error(n["axis"], path + ".axis", "must lie in the robot's plane (y = 0)");
+  for (auto [key, out] : {std::pair{"length", &j.length},
+                          std::pair{"axial_stiffness", &j.axial_stiffness},
+                          std::pair{"axial_damping_ratio", &j.axial_damping_ratio},
+                          std::pair{"stiffness", &j.stiffness},
+                          std::pair{"damping_ratio", &j.damping_ratio}}) {
+    Expr e;
+    if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, e); !s.ok()) return s;
+    *out = e;
+  }
+  return absl::OkStatus();
+}
+
 Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& path,
                   RobotDescriptor& d) {
   if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "axis2",
-                                      "stiffness", "damping", "rest", "lo", "hi"});
+                                      "stiffness", "damping", "rest", "lo", "hi", "length",
+                                      "axial_stiffness", "axial_damping_ratio", "damping_ratio"});
       !s.ok())
     return s;
   Joint j;
@@ -175,8 +202,8 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
     return s;
   auto type = f.String(n["type"], path + ".type");
   if (!type.ok()) return type.status();
-  if (*type != "hinge" && *type != "universal" && *type != "fixed")
-    return f.Error(n["type"], path + ".type", "must be hinge, universal or fixed");
+  if (*type != "hinge" && *type != "universal" && *type != "fixed" && *type != "spring_link")
+    return f.Error(n["type"], path + ".type", "must be hinge, universal, fixed or spring_link");
   j.type = *type;
   const YAML::Node bodies = n["bodies"];
   if (!bodies.IsSequence() || bodies.size() != 2)
@@ -198,6 +225,13 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
     d.joints.push_back(std::move(j));
     return absl::OkStatus();
   }
+  if (j.type == "spring_link") {
+    if (Status s = ParseSpringLink(f, n, path, d, j); !s.ok()) return s;
+    d.joints.push_back(std::move(j));
+    return absl::OkStatus();
+  }
+  for (const char* key : {"length", "axial_stiffness", "axial_damping_ratio", "damping_ratio"})
+    if (n[key]) return f.Error(n[key], JoinPath(path, key), "only a spring_link has it");
   if (n["axis2"]) return f.Error(n["axis2"], path + ".axis2", "only a universal joint has axis2");
   for (auto [key, out] : {std::pair{"stiffness", &j.stiffness}, std::pair{"damping", &j.damping},
                           std::pair{"rest", &j.rest}, std::pair{"lo", &j.lo},
@@ -210,21 +244,53 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
   return absl::OkStatus();
 }
 
-Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string& path,
-                     RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "max_torque",
-                                      "lag_s"});
+// A piston between two bodies' points (docs/robots.md, "actuators").
+Status ParsePiston(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                   const RobotDescriptor& d, Actuator& a) {
+  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "attach1", "attach2", "force",
+                                      "return_stiffness", "min_length", "max_length", "stop_erp",
+                                      "stop_cfm", "overrun_tolerance"});
       !s.ok())
     return s;
+  const YAML::Node bodies = n["bodies"];
+  if (!bodies.IsSequence() || bodies.size() != 2)
+    return f.Error(bodies, path + ".bodies", "must be [BODY1, BODY2]");
+  if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, a.body1); !s.ok()) return s;
+  if (Status s = ReadBodyName(f, bodies[1], path + ".bodies[1]", d, a.body2); !s.ok()) return s;
+  if (a.body1 == a.body2) return f.Error(bodies, path + ".bodies", "must name two bodies");
+  if (Status s = ReadVec(f, n["attach1"], path + ".attach1", d, a.attach1); !s.ok()) return s;
+  if (Status s = ReadVec(f, n["attach2"], path + ".attach2", d, a.attach2); !s.ok()) return s;
+  for (auto [key, out] :
+       {std::pair{"force", &a.force}, std::pair{"return_stiffness", &a.return_stiffness},
+        std::pair{"min_length", &a.min_length}, std::pair{"max_length", &a.max_length},
+        std::pair{"stop_erp", &a.stop_erp}, std::pair{"stop_cfm", &a.stop_cfm},
+        std::pair{"overrun_tolerance", &a.overrun_tolerance}})
+    if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, *out); !s.ok()) return s;
+  return absl::OkStatus();
+}
+
+Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                     RobotDescriptor& d) {
   Actuator a;
   a.mark = f.MarkOf(n);
-  for (auto [key, out] : {std::pair{"name", &a.name}, std::pair{"type", &a.type},
-                          std::pair{"joint", &a.joint}}) {
+  for (auto [key, out] : {std::pair{"name", &a.name}, std::pair{"type", &a.type}}) {
     auto v = f.String(n[key], JoinPath(path, key));
     if (!v.ok()) return v.status();
     *out = *v;
   }
-  if (a.type != "servo") return f.Error(n["type"], path + ".type", "must be servo");
+  if (a.type == "piston") {
+    if (Status s = ParsePiston(f, n, path, d, a); !s.ok()) return s;
+    d.actuators.push_back(std::move(a));
+    return absl::OkStatus();
+  }
+  if (a.type != "servo") return f.Error(n["type"], path + ".type", "must be servo or piston");
+  if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "max_torque",
+                                      "lag_s"});
+      !s.ok())
+    return s;
+  auto joint = f.String(n["joint"], path + ".joint");
+  if (!joint.ok()) return joint.status();
+  a.joint = *joint;
   if (const Joint* j = d.FindJoint(a.joint); j == nullptr || j->type != "hinge")
     return f.Error(n["joint"], path + ".joint",
                    absl::StrCat(j ? "a servo turns a hinge; '" : "no joint named '", a.joint,
@@ -272,6 +338,17 @@ Status ReadVec3(const YamlFields& f, const YAML::Node& node, const std::string& 
 }
 
 Status ParseStructure(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
+  if (root["plane"]) {
+    auto plane = f.String(root["plane"], "plane");
+    if (!plane.ok()) return plane.status();
+    if (*plane != "xz") return f.Error(root["plane"], "plane", "must be xz (or left out: 3-D)");
+    d.plane = *plane;
+  }
+  if (root["self_contact"]) {
+    auto on = f.Bool(root["self_contact"], "self_contact");
+    if (!on.ok()) return on.status();
+    d.self_contact = *on;
+  }
   if (Status s = ParseList(f, root, "bodies", d, ParseBody); !s.ok()) return s;
   if (Status s = ParseList(f, root, "joints", d, ParseJoint); !s.ok()) return s;
   if (Status s = ParseList(f, root, "actuators", d, ParseActuator); !s.ok()) return s;

@@ -126,7 +126,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "less travel for every gait, most for short ON windows.",
        "Pull one idle actuator apart with a force gauge: the force at which it starts to "
        "move is F (a lag or a weak push needs no force to move it); or switch it off at full "
-       "stroke and watch whether it returns all the way."},
+       "stroke and watch whether it returns all the way.",
+       "pistons"},
       {"servo.deadband",
        "Servo deadband",
        "A hobby servo's controller ignores position errors inside a band of +-b (the pulse "
@@ -179,7 +180,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "predict: the error grows with stroke amplitude and force, unlike a uniform "
        "stiffness scale.",
        "Load-extension curve of one flexure to several millimetres: linear springs give a "
-       "straight line, softening bends it (sigma from its curvature)."},
+       "straight line, softening bends it (sigma from its curvature).",
+       "spring_links"},
       {"model.resolution",
        "Model resolution (deformable lumps)",
        "Six rigid lumps stand for a continuum body (paper 000's second suspect: the \"highly "
@@ -254,9 +256,14 @@ bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
   if (part == "tether_body" || part == "every_body") return !d.bodies.empty();
   if (part == "ground") return d.ground.has_value();
   if (part == "actuators") return !d.actuators.empty();
-  if (part == "servos")
+  if (part == "spring_links")
+    return std::any_of(d.joints.begin(), d.joints.end(),
+                       [](const robots::Joint& j) { return j.type == "spring_link"; });
+  if (part == "servos" || part == "pistons") {
+    const std::string type = part == "servos" ? "servo" : "piston";
     return std::any_of(d.actuators.begin(), d.actuators.end(),
-                       [](const robots::Actuator& a) { return a.type == "servo"; });
+                       [&type](const robots::Actuator& a) { return a.type == type; });
+  }
   return false;
 }
 

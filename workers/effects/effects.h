@@ -53,8 +53,11 @@ struct EffectInfo {
 //   ground       the ground contacts
 //   actuators    every actuator's command
 //   servos       every position servo's controller
+//   pistons      every piston (its line between two bodies)
+//   spring_links every spring link of a planar robot
 inline const std::vector<std::string> kParts = {"tether_body", "every_body", "ground",
-                                                "actuators", "servos"};
+                                                "actuators",   "servos",     "pistons",
+                                                "spring_links"};
 
 // Every effect, in the order of the ids above.
 const std::vector<EffectInfo>& EffectCatalog();

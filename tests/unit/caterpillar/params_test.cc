@@ -73,11 +73,16 @@ TEST(CaterpillarParams, MissingFieldIsNamedWithUnitAndRange) {
 }
 
 TEST(CaterpillarParams, UnknownFieldIsAnError) {
-  auto p = ParseCaterpillarParams(Edit("size_y_m:", "size_yy_m:"), "copy.yaml");
+  auto p = ParseCaterpillarParams(Edit("max_excursion_m:", "max_excursion_mm:"), "copy.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_THAT(std::string(p.status().message()),
-              AllOf(HasSubstr("copy.yaml:" + std::to_string(LineOf("size_y_m:")) + ":"),
-                    HasSubstr("lumps.size_yy_m: the caterpillar model has no such parameter")));
+              AllOf(HasSubstr("copy.yaml:" + std::to_string(LineOf("max_excursion_m:")) + ":"),
+                    HasSubstr("simulation.max_excursion_mm: the caterpillar model has no such parameter")));
+  // A parameter the structure uses, renamed: the structure's reference is named.
+  auto q = ParseCaterpillarParams(Edit("size_y_m:", "size_yy_m:"), "copy.yaml");
+  ASSERT_FALSE(q.ok());
+  EXPECT_THAT(std::string(q.status().message()),
+              HasSubstr("'lumps.size_y_m' is not a parameter of this robot; nearest: "));
 }
 
 TEST(CaterpillarParams, WholeNumberFieldsRejectFractions) {

@@ -222,16 +222,22 @@ std::string Fixture(const std::string& name = "twobox") {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// The parse error of fixture `name` with its first `from` replaced by `to`.
-std::string FixtureError(const std::string& from, const std::string& to,
-                         const std::string& name = "twobox") {
-  std::string t = Fixture(name);
+// The parse error of descriptor text `t` (read as `source`) with its first `from` replaced
+// by `to`.
+std::string EditedError(std::string t, const std::string& source, const std::string& from,
+                        const std::string& to) {
   const size_t at = t.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   t.replace(at, from.size(), to);
-  auto d = ParseDescriptor(t, name + ".yaml");
+  auto d = ParseDescriptor(t, source);
   EXPECT_FALSE(d.ok()) << from;
   return d.ok() ? "" : std::string(d.status().message());
+}
+
+// The same for fixture `name`.
+std::string FixtureError(const std::string& from, const std::string& to,
+                         const std::string& name = "twobox") {
+  return EditedError(Fixture(name), name + ".yaml", from, to);
 }
 
 TEST(Structure, TheFixtureRobotParses) {
@@ -268,7 +274,9 @@ TEST(Structure, ExpressionsAndAxesAreChecked) {
   EXPECT_THAT(FixtureError("position: [0, 0, 0.5*height_m]", "position: [0, 0, 0.5**height_m]"),
               HasSubstr("is not a number, a parameter name or a sum of terms"));
   EXPECT_THAT(FixtureError("axis: [0, 1, 0]", "axis: [0, 2, 0]"), HasSubstr("must be a unit vector"));
-  EXPECT_THAT(FixtureError("type: servo", "type: piston"), HasSubstr("must be servo"));
+  EXPECT_THAT(FixtureError("type: servo", "type: motor"), HasSubstr("must be servo or piston"));
+  EXPECT_THAT(FixtureError("type: servo", "type: piston"),
+              HasSubstr("actuators[0].joint: unknown field"));
 }
 
 // Universal joints and the world frame (tests/fixtures/robots/cantilever/robot.yaml).
@@ -307,7 +315,7 @@ TEST(Structure, UniversalJointAndWorldMistakesAreNamed) {
   EXPECT_THAT(CantileverError("damping: [joint.bend_damping_nms_per_rad, joint.side_damping_nms_per_rad]}",
                               "damping: [joint.bend_damping_nms_per_rad]}"),
               HasSubstr("joints[0].damping: must be one value for both axes or [AXIS1, AXIS2]"));
-  EXPECT_THAT(CantileverError("type: universal", "type: ball"), HasSubstr("must be hinge, universal or fixed"));
+  EXPECT_THAT(CantileverError("type: universal", "type: ball"), HasSubstr("must be hinge, universal, fixed or spring_link"));
   EXPECT_THAT(FixtureError("axis: [0, 1, 0],", "axis: [0, 1, 0], axis2: [0, 0, 1],"),
               HasSubstr("only a universal joint has axis2"));
 }
@@ -320,6 +328,30 @@ TEST(Expr, ParsesLinearSums) {
   EXPECT_FALSE(ParseExpr("").ok());
   EXPECT_FALSE(ParseExpr("a b").ok());
   EXPECT_FALSE(ParseExpr("3*").ok());
+}
+
+// Spring links, pistons and the plane (the caterpillar's structure, robots/caterpillar).
+std::string CaterpillarError(const std::string& from, const std::string& to) {
+  return EditedError(std::string(BuiltinText("caterpillar")), "caterpillar.yaml", from, to);
+}
+
+TEST(Structure, SpringLinkAndPistonMistakesAreNamed) {
+  struct Case {
+    std::string from, to, says;
+  };
+  const std::vector<Case> cases = {
+      {"plane: xz", "plane: xy", "plane: must be xz"},
+      {"plane: xz", "", "joints[0].type: a spring_link needs a planar robot"},
+      {"axis: [1, 0, 0], length", "axis: [0, 1, 0], length", "joints[0].axis: must lie in the robot's plane"},
+      {"length: 0.5*lumps.spacing_m, ", "", "joints[0].length: missing"},
+      {"damping_ratio: links.bending_damping_ratio}", "damping_ratio: links.bending_damping_ratio, lo: -1}",
+       "joints[0].lo: unknown field"},
+      {"bodies: [lump1, lump2],\n     attach1", "bodies: [lump1, lump9],\n     attach1",
+       "actuators[0].bodies[1]: no body named 'lump9'"},
+      {"stop_erp: actuators.stop_erp,", "stop_erp: stop.erp,", "actuators[0].stop_erp: 'stop.erp' is not a parameter"},
+      {"self_contact: true", "self_contact: maybe", "self_contact"},
+  };
+  for (const Case& c : cases) EXPECT_THAT(CaterpillarError(c.from, c.to), HasSubstr(c.says)) << c.from;
 }
 
 }  // namespace

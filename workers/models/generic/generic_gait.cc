@@ -16,10 +16,13 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
     return absl::InvalidArgumentError(absl::StrCat(d.name, " takes ", c.genes.size(),
                                                    " genes, got ", genes.size()));
   const robots::ControllerKind* kind = robots::FindControllerKind(c.kind);
-  if (!kind->set_points)
-    return absl::InvalidArgumentError(absl::StrCat(
-        "the generic model drives servos with set-point angles; controller kind ", c.kind,
-        " switches actuators on and off"));
+  // Servos take set-point angles; pistons the fraction of their force (on/off: 1 or 0).
+  for (const std::string& name : c.actuators)
+    for (const robots::Actuator& a : d.actuators)
+      if (a.name == name && (a.type == "servo") != kind->set_points)
+        return absl::InvalidArgumentError(absl::StrCat(
+            "controller kind ", c.kind, kind->set_points ? " gives set-point angles" : " switches on and off",
+            ", which ", a.type, " ", a.name, " cannot take"));
   return InDescriptorOrder(d, robots::ControllerRun(c, genes).At(t));
 }
 
@@ -34,6 +37,40 @@ std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
 }
 
 namespace {
+
+// The commands of step n (time n h) under a command delay d (effect.actuator_delay_s). A
+// set-point kind is continuous in time: its command of time max(0, t - d). An on/off kind
+// is held over each step, so the delayed command over the step is the one of step n - D - 1
+// for the first `frac` of it and of step n - D for the rest (d = (D + frac) h; OFF before
+// the start): continuous in d, a fraction of a step delaying that share of its push.
+class DelayedCommands {
+ public:
+  DelayedCommands(const robots::ControllerKind& kind, double delay_s, double h)
+      : on_off_(!kind.set_points && delay_s > 0), delay_(delay_s), h_(h) {
+    if (!on_off_) return;
+    double steps = delay_s / h;
+    if (std::fabs(steps - std::round(steps)) < 1e-9) steps = std::round(steps);
+    whole_ = static_cast<int64_t>(std::floor(steps));
+    frac_ = steps - static_cast<double>(whole_);
+  }
+  std::vector<double> At(robots::ControllerRun& run, int64_t n, double offset, size_t count) const {
+    if (!on_off_) return run.At(std::max(0.0, static_cast<double>(n) * h_ - delay_) + offset);
+    auto at_step = [&](int64_t k) {
+      return k >= 0 ? run.At(static_cast<double>(k) * h_ + offset) : std::vector<double>(count, 0.0);
+    };
+    const std::vector<double> older = frac_ != 0 ? at_step(n - whole_ - 1) : std::vector<double>();
+    std::vector<double> out = at_step(n - whole_);
+    if (frac_ != 0)
+      for (size_t j = 0; j < out.size(); ++j) out[j] = frac_ * older[j] + (1 - frac_) * out[j];
+    return out;
+  }
+
+ private:
+  bool on_off_;
+  double delay_, h_;
+  int64_t whole_ = 0;
+  double frac_ = 0;
+};
 
 // Runs the gait from rest for `steps` steps, calling `each(world)` before every step and
 // once after the last; false (with the reason and time in r) when it diverges.
@@ -60,13 +97,14 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
     return false;
   }
   RobotWorld& w = **world;
-  const double delay = v.Effect("effect.actuator_delay_s");
+  const DelayedCommands delayed(*robots::FindControllerKind(d.controller.kind),
+                                v.Effect("effect.actuator_delay_s"), w.timestep());
   const int64_t total = steps(w);
   robots::ControllerRun controller(d.controller, genes);
   for (int64_t i = 0; i < total; ++i) {
     each(w, i);
     const sim::SimOutcome out = w.Step(InDescriptorOrder(
-        d, controller.At(std::max(0.0, w.time() - delay) + time_offset_s)));
+        d, delayed.At(controller, i, time_offset_s, d.controller.actuators.size())));
     if (!out.ok) {
       *reason = out.reason;
       *simulated_s = w.time();
@@ -115,8 +153,10 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   const auto steps = [&](const RobotWorld& w) {
     if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
+    // Both from integer arithmetic: the measured window starts and ends at exactly settle
+    // and settle + measured periods, each up to one step.
     settle_steps = std::llround(settle * period / w.timestep());
-    return total = settle_steps + std::llround(measured * period / w.timestep());
+    return total = std::llround((settle + measured) * period / w.timestep());
   };
   const auto each = [&](const RobotWorld& w, int64_t i) {
     if (i == settle_steps) {

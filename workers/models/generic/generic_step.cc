@@ -64,12 +64,13 @@ void GenericWorld::ApplyEffects() {
       dBodyAddForce(b, -fx_.drag * v[0], -fx_.drag * v[1], -fx_.drag * v[2]);
     }
   }
+  if (fx_.spring_softening > 0) SoftenLinks();
 }
 
 void GenericWorld::ApplyServos(const std::vector<double>& commands) {
   for (size_t i = 0; i < servos_.size(); ++i) {
     Servo& s = servos_[i];
-    const double target = i < commands.size() ? commands[i] : 0.0;
+    const double target = static_cast<size_t>(s.actuator) < commands.size() ? commands[s.actuator] : 0.0;
     // Exact for a command held over the step: c <- t + (c - t) exp(-h / lag). The effect's
     // lag (effect.actuator_lag_s) comes first, then the servo's own.
     s.extra = s.started ? target + (s.extra - target) * s.extra_keep : target;
@@ -155,9 +156,10 @@ sim::SimOutcome GenericWorld::CheckState() {
   for (size_t i = 0; i < bodies_.size(); ++i) {
     const dReal* p = dBodyGetPosition(bodies_[i]);
     const dReal* v = dBodyGetLinearVel(bodies_[i]);
+    const dReal* w = dBodyGetAngularVel(bodies_[i]);
     const std::string& name = d_.bodies[i].name;
     for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(p[k]) || !std::isfinite(v[k]))
+      if (!std::isfinite(p[k]) || !std::isfinite(v[k]) || !std::isfinite(w[k]))
         return sim::SimOutcome::Failed(absl::StrCat("NaN in body ", name, " at t = ", time(), " s"));
     }
     const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -165,26 +167,40 @@ sim::SimOutcome GenericWorld::CheckState() {
       return sim::SimOutcome::Failed(absl::StrCat("body ", name, " moves at ", speed,
                                                   " m/s (> simulation.max_speed_m_per_s) at t = ",
                                                   time(), " s"));
+    // Spinning so fast that the ends of its length along x would pass the speed limit.
+    const double spin = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (spin > 2 * max_speed_ / sizes_[i][0])
+      return sim::SimOutcome::Failed(absl::StrCat(
+          "body ", name, " spins at ", spin, " rad/s (> 2 simulation.max_speed_m_per_s / its x "
+          "length) at t = ", time(), " s"));
     const double dx = p[0] - start_[i][0], dy = p[1] - start_[i][1], dz = p[2] - start_[i][2];
     if (std::sqrt(dx * dx + dy * dy + dz * dz) > max_excursion_)
       return sim::SimOutcome::Failed(absl::StrCat(
           "body ", name, " is farther than simulation.max_excursion_m from its start at t = ",
           time(), " s"));
   }
-  return sim::SimOutcome::Ok();
+  return CheckPistons();
 }
 
 sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
-  ApplyJointTorques();
-  ApplyEffects();
-  ApplyServos(commands);
-  AddGroundContacts();
   try {
+    ApplyJointTorques();
+    ApplyPistons(commands);
+    ApplyEffects();
+    ApplyServos(commands);
+    if (d_.plane.empty()) {
+      AddGroundContacts();
+    } else {
+      AddPlanarGroundContacts();
+    }
+    AddSelfContacts();
+    UpdateLinkAngles();
     world_.Step(h_);
   } catch (const sim::OdeError& e) {
     return sim::SimOutcome::Failed(absl::StrCat("ODE: ", e.what(), " at t = ", time(), " s"));
   }
   ++steps_;
+  MeasurePistons();
   Observe();
   return CheckState();
 }
@@ -239,18 +255,22 @@ double GenericWorld::torque_limited_fraction() const {
 }
 
 std::array<double, 3> GenericWorld::CentreOfMass() const {
+  // Weights relative to the first body's mass: equal bodies weigh exactly 1 each, so their
+  // centre is the plain mean of their positions, to the last bit.
   std::array<double, 3> c{};
   double total = 0;
   for (size_t i = 0; i < bodies_.size(); ++i) {
     const dReal* p = dBodyGetPosition(bodies_[i]);
-    for (int k = 0; k < 3; ++k) c[k] += masses_[i] * p[k];
-    total += masses_[i];
+    const double weight = masses_[i] / masses_[0];
+    for (int k = 0; k < 3; ++k) c[k] += weight * p[k];
+    total += weight;
   }
   for (double& x : c) x /= total;
   return c;
 }
 
 double GenericWorld::JointAngle(int joint, int axis) const {
+  if (joint_link_[joint] >= 0) return LinkBend(links_[joint_link_[joint]]);
   const dJointID j = joints_[joint];
   switch (dJointGetType(j)) {
     case dJointTypeHinge: return dJointGetHingeAngle(j);

@@ -91,9 +91,13 @@ BuilderEffects::BuilderEffects(const ParamValues& v)
       friction_backward(v.Effect("effect.friction_backward")),
       slope(v.Effect("effect.slope_rad")),
       actuator_lag(v.Effect("effect.actuator_lag_s")),
-      servo_deadband(v.Effect("effect.servo_deadband_rad")) {}
+      servo_deadband(v.Effect("effect.servo_deadband_rad")),
+      piston_deadband(v.Effect("effect.actuator_deadband_n")),
+      spring_softening(v.Effect("effect.spring_softening")) {}
 
 double ParamValues::Effect(const std::string& name) const {
+  // A robot may declare an effect's parameter itself (the caterpillar's descriptor does).
+  if (d_->FindParameter(name) != nullptr) return (*this)(name);
   auto it = effects_.find(name);
   return it == effects_.end() ? 0.0 : it->second;
 }
@@ -103,14 +107,17 @@ GenericWorld::GenericWorld(const robots::RobotDescriptor& d, const ParamValues& 
 
 absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
     const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s) {
-  if (d.model != "generic" || d.bodies.empty())
-    return absl::InvalidArgumentError(absl::StrCat(
-        d.source, ": the generic builder needs model: generic and at least one body"));
+  if (d.bodies.empty())
+    return absl::InvalidArgumentError(
+        absl::StrCat(d.source, ": the generic builder needs at least one body"));
   for (const char* name : kRequired)
     if (d.FindParameter(name) == nullptr)
       return absl::InvalidArgumentError(
           absl::StrCat(d.source, ": a generic robot needs the parameter ", name));
   if (!d.ground) return absl::InvalidArgumentError(d.source + ": a generic robot needs ground");
+  if (!d.plane.empty() && d.ground->friction_load == "body")
+    return absl::InvalidArgumentError(
+        d.source + ": ground.friction_load: body is not offered for a planar robot");
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
   std::unique_ptr<GenericWorld> w(new GenericWorld(d, v, h));
   // A ground slope s (effect.slope_rad, + uphill along +x) tilts gravity about y.
@@ -142,6 +149,14 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->load_.assign(d.bodies.size(), 0.0);
   w->contact_feedback_.resize(d.bodies.size() * kMaxContacts);
   w->contact_count_.assign(d.bodies.size(), 0);
+  for (size_t i = 0; i < d.bodies.size(); ++i)
+    for (size_t k = i + 1; k < d.bodies.size(); ++k) {
+      bool joined = false;
+      for (const robots::Joint& j : d.joints)
+        joined = joined || (j.body1 == d.bodies[i].name && j.body2 == d.bodies[k].name) ||
+                 (j.body2 == d.bodies[i].name && j.body1 == d.bodies[k].name);
+      if (d.self_contact && !joined) w->contact_pairs_.emplace_back(i, k);
+    }
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;
@@ -171,6 +186,7 @@ absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
     bodies_.push_back(body);
     geoms_.push_back(geom);
     masses_.push_back(m);
+    sizes_.push_back(size);
     start_.push_back(pos);
   }
   return absl::OkStatus();
@@ -184,6 +200,14 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
     return nullptr;
   };
   for (const robots::Joint& j : d_.joints) {
+    joint_link_.push_back(-1);
+    if (j.type == "spring_link") {
+      joint_link_.back() = static_cast<int>(links_.size());
+      if (absl::Status s = BuildSpringLink(j, body(j.body1), body(j.body2), v); !s.ok()) return s;
+      joints_.push_back(links_.back().bend);
+      springs_.push_back({});
+      continue;
+    }
     if (j.type == "fixed") {
       dJointID weld = dJointCreateFixed(world_.world(), nullptr);
       dJointAttach(weld, body(j.body1), body(j.body2));
@@ -243,8 +267,14 @@ GenericWorld::Spring GenericWorld::SpringOf(const robots::Joint& j, const ParamV
 }
 
 absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
-  for (const robots::Actuator& a : d_.actuators) {
+  for (size_t index = 0; index < d_.actuators.size(); ++index) {
+    const robots::Actuator& a = d_.actuators[index];
+    if (a.type == "piston") {
+      if (absl::Status s = BuildPiston(a, static_cast<int>(index), v); !s.ok()) return s;
+      continue;
+    }
     Servo s;
+    s.actuator = static_cast<int>(index);
     for (size_t i = 0; i < d_.joints.size(); ++i)
       if (d_.joints[i].name == a.joint) s.joint = static_cast<int>(i);
     s.gain = Eval(a.gain, v);

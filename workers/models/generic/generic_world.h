@@ -10,6 +10,13 @@
 // touches every box (Coulomb friction with dContactApprox1, or no slip when the friction
 // parameter is infinite); then one dWorldStep and a divergence check.
 //
+// Planar robots (plane: xz; generic_planar.cc) add spring links (an axial and a bending
+// spring-damper as soft constraint rows), pistons (a push along the line between two
+// points, a return spring, stroke stops as speculative one-row contacts), ground contacts
+// on the boxes' centre-plane corners with friction along x, and self-contacts folded onto
+// the plane; per step: joint torques, pistons, effects, servos, ground and self-contacts,
+// the links' angles, then the step.
+//
 // Effects it attaches (workers/effects/effects.h, docs/effects.md), each off at 0: a tether
 // pulling the first body backwards (-x) at its centre with F + k max(0, x - x0); gravity
 // tilted by a ground slope about y; viscous drag -c v on every body; direction-dependent
@@ -60,8 +67,10 @@ struct BuilderEffects {
   double drag = 0;                                  // N s/m on every body
   double friction_forward = 0, friction_backward = 0;
   double slope = 0;                                 // rad, + uphill along +x
-  double actuator_lag = 0;                          // s, before each servo's own
-  double servo_deadband = 0;                        // rad
+  double actuator_lag = 0;    // s: before each servo's own; a piston's push follows it
+  double servo_deadband = 0;  // rad
+  double piston_deadband = 0;  // N: Coulomb friction along each piston's line
+  double spring_softening = 0;  // 1/m: spring links' axial force k x / sqrt(1 + (s x)^2)
 };
 
 class GenericWorld : public RobotWorld {
@@ -76,6 +85,7 @@ class GenericWorld : public RobotWorld {
 
   // One step with `commands[i]` the angle (rad) commanded to actuator i (descriptor order).
   // !ok once the state diverged (NaN, too fast, too far, ODE error): do not step again.
+  // A piston's command is the fraction (0..1) of its force it pushes with.
   sim::SimOutcome Step(const std::vector<double>& commands) override;
 
   double time() const override { return steps_ * h_; }
@@ -106,7 +116,16 @@ class GenericWorld : public RobotWorld {
   dJointID BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyID b2, const ParamValues& v);
   absl::Status BuildActuators(const ParamValues& v);
   void BuildMarkers(const ParamValues& v);
+  absl::Status BuildSpringLink(const robots::Joint& j, dBodyID b1, dBodyID b2,
+                               const ParamValues& v);
+  absl::Status BuildPiston(const robots::Actuator& a, int index, const ParamValues& v);
   void ApplyJointTorques();
+  void ApplyPistons(const std::vector<double>& commands);
+  void AddPlanarGroundContacts();
+  void AddSelfContacts();
+  void UpdateLinkAngles();
+  void MeasurePistons();
+  sim::SimOutcome CheckPistons() const;
   void ApplyEffects();
   void ApplyServos(const std::vector<double>& commands);
   void AddGroundContacts();
@@ -120,7 +139,33 @@ class GenericWorld : public RobotWorld {
   static Spring SpringOf(const robots::Joint& j, const ParamValues& v);
   void AddUniversalSpring(dJointID j, const Spring& s);
   static double UniversalAngle(dJointID j, int axis);
+  // A spring link's three rows: a shear row (a distance held between a point far above
+  // the anchor on body 1 and the anchor on body 2), the axial spring and the bend spring
+  // (a one-axis angular motor whose equal stops make a two-sided soft row).
+  struct Link {
+    dJointID shear = nullptr, axial = nullptr, bend = nullptr;
+    dBodyID b1 = nullptr, b2 = nullptr;
+    double axial_erp = 0;  // the linear axial spring's ERP (h k / c)
+  };
+  void SoftenLinks();
+  static double LinkBend(const Link& l);
+  struct Piston {
+    int actuator = 0;  // its index in the descriptor's actuators (and commands)
+    dBodyID b1 = nullptr, b2 = nullptr;
+    std::array<double, 3> p1{}, p2{};  // attachment points, body frames
+    double force = 0, k = 0, min = 0, max = 0, stop_erp = 0, stop_cfm = 0, tolerance = 0;
+    double lighter_mass = 0;  // of its two bodies: sizes the stops' look-ahead margin
+    double push = 0;          // effect.actuator_lag_s: the lagged push (N), from 0 at rest
+  };
+  // A piston's two points, its length and the rate of its length now.
+  struct PistonState {
+    std::array<double, 3> r{}, f{};
+    double length = 0, rate = 0;
+  };
+  static PistonState StateOf(const Piston& p);
+  void AddPistonDeadband(const Piston& p, const PistonState& s, double ux, double uy, double uz);
   struct Servo {
+    int actuator = 0;  // its index in the descriptor's actuators (and commands)
     int joint = 0;
     double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0;
     // effect.actuator_lag_s: a further lag in series, before the servo's own (0: none).
@@ -135,6 +180,7 @@ class GenericWorld : public RobotWorld {
   std::vector<dBodyID> bodies_;
   std::vector<dGeomID> geoms_;
   std::vector<double> masses_;
+  std::vector<std::array<double, 3>> sizes_;  // box lengths, body frame (m)
   // Per body: its ground friction coefficient (the ground's unless it gives its own) and
   // the overlap it may keep (m).
   std::vector<double> body_friction_, contact_depth_;
@@ -142,6 +188,12 @@ class GenericWorld : public RobotWorld {
   std::vector<dJointID> joints_;
   std::vector<Spring> springs_;
   std::vector<Servo> servos_;
+  std::vector<Link> links_;
+  std::vector<int> joint_link_;  // per descriptor joint: its index in links_, or -1
+  std::vector<Piston> pistons_;
+  std::vector<double> piston_lengths_;  // after the last step
+  // Self-contact: the pairs of bodies (i < j) that no joint joins, in order.
+  std::vector<std::pair<int, int>> contact_pairs_;
   struct Marker {
     std::string name;
     int body = 0;
