@@ -199,7 +199,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "body's bending wave off; largest for gaits that bend the body most or hop.",
        "Film one lump during a stroke (its front and rear faces separately), or compare with "
        "a finer lumped or FEA model on the same gaits: deformable lumps show as faces of one "
-       "lump moving apart, an external force does not deform a lump."},
+       "lump moving apart, an external force does not deform a lump.",
+       "spring_links"},
       {"damping.scale",
        "Link damping",
        "The body dissipates more or less than the paper's critical damping: the silicone's "

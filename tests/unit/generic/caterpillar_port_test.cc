@@ -102,6 +102,8 @@ TEST(CaterpillarPort, EffectsAgreeWithTheDedicatedModel) {
       {{"effect.actuator_delay_s", 0.01}, {"effect.actuator_lag_s", 0.01}},
       {{"effect.actuator_deadband_n", 1.2}},
       {{"effect.spring_softening", 150}},
+      {{"effect.lump_compliance_per_mpa", 6}},
+      {{"effect.lump_compliance_per_mpa", 9}, {"effect.tether_force_n", 0.4}},
   };
   const auto gaits = Gaits(2);
   for (const auto& set : cases) {
@@ -117,7 +119,12 @@ TEST(CaterpillarPort, EffectsAgreeWithTheDedicatedModel) {
       const auto want = caterpillar::EvaluateGait(params, *gait);
       const GaitResult got = EvaluateGait(d, values, gaits[g]);
       ASSERT_EQ(got.valid, want.valid) << set[0].first << ": " << got.reason << " / " << want.reason;
-      EXPECT_EQ(got.distance_per_cycle_m, want.distance_per_cycle_m) << set[0].first << " gait " << g;
+      // Split lumps: the same motion, their centres averaged in another order.
+      if (values.Effect("effect.lump_compliance_per_mpa") > 0) {
+        EXPECT_NEAR(got.distance_per_cycle_m, want.distance_per_cycle_m, 1e-15) << "gait " << g;
+      } else {
+        EXPECT_EQ(got.distance_per_cycle_m, want.distance_per_cycle_m) << set[0].first << " gait " << g;
+      }
       const auto plain = caterpillar::EvaluateGait(caterpillar::DefaultCaterpillarParams(), *gait);
       differ += plain.distance_per_cycle_m != want.distance_per_cycle_m;
     }

@@ -6,17 +6,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "workers/models/generic/generic_world.h"
+#include "workers/models/generic/param_eval.h"
 
 namespace gaitforge::generic {
 namespace {
-
-double Eval(const robots::Expr& e, const ParamValues& v) {
-  return e.Eval([&v](const std::string& n) { return v(n); });
-}
-
-std::array<double, 3> Eval(const robots::Vec3Expr& e, const ParamValues& v) {
-  return {Eval(e[0], v), Eval(e[1], v), Eval(e[2], v)};
-}
 
 // A spring-damper as a soft constraint row (../shared/guides/ode-notes.md, "Springs and
 // dampers"). ODE solves J v' = -(ERP/h) x - CFM f for the row force f, i.e.
@@ -27,12 +20,6 @@ struct SoftRow {
   double erp, cfm;
 };
 SoftRow SpringDamper(double k, double c, double h) { return {h * k / c, 1.0 / c}; }
-
-// A fraction zeta of critical damping, c = 2 zeta sqrt(k mu), for two bodies joined by a
-// spring, mu their reduced mass (or inertia) a b / (a + b); the exact half for equal bodies.
-double Damping(double zeta, double k, double a, double b) {
-  return 2 * zeta * std::sqrt(a == b ? k * a / 2 : k * (a * b / (a + b)));
-}
 
 // The shear row's point sits this far from the anchor, across the link: far, so that its
 // second-order pull from an axial slide s, s^2 / (2 kShearLeverM), stays below 0.1 mm.
@@ -55,8 +42,7 @@ dContact FrictionlessContact() {
 
 }  // namespace
 
-absl::Status GenericWorld::BuildSpringLink(const robots::Joint& j, dBodyID b1, dBodyID b2,
-                                           const ParamValues& v) {
+absl::Status GenericWorld::BuildSpringLink(const robots::Joint& j, const ParamValues& v) {
   const auto anchor = Eval(j.anchor, v);
   const double length = Eval(*j.length, v), k = Eval(*j.axial_stiffness, v);
   const double kappa = Eval(*j.stiffness, v);
@@ -65,12 +51,25 @@ absl::Status GenericWorld::BuildSpringLink(const robots::Joint& j, dBodyID b1, d
     return absl::InvalidArgumentError(absl::StrCat(
         j.mark.ToString(), ": spring_link ", j.name,
         " needs length, axial_stiffness, stiffness and both damping ratios > 0"));
-  dMass m1, m2;
-  dBodyGetMass(b1, &m1);
-  dBodyGetMass(b2, &m2);
-  const double c_axial = Damping(zeta, k, m1.mass, m2.mass);
-  const double c_bend = Damping(zeta_bend, kappa, m1.I[1 * 4 + 1], m2.I[1 * 4 + 1]);
-  const auto& a = j.axis;
+  const int i1 = BodyIndex(j.body1), i2 = BodyIndex(j.body2);
+  const int b1 = NearPart(i1, anchor), b2 = NearPart(i2, anchor);
+  // On a split body the axial spring's point moves to the centre of the half that holds
+  // the anchor's side: a quarter of the body's length along the link.
+  const Built& from = built_[i1];
+  const double shift = from.parts == 1 ? 0.0 : b1 == from.first ? -from.half_x : from.half_x;
+  std::array<double, 3> p1;
+  for (int c = 0; c < 3; ++c) p1[c] = anchor[c] - length * j.axis[c] + shift * j.axis[c];
+  // Damped as fractions of critical for the two bodies as the descriptor gives them (whole,
+  // even when split).
+  const Built& to = built_[i2];
+  AddLink(bodies_[b1], bodies_[b2], anchor, j.axis, p1, k, kappa,
+          Damping(zeta, k, from.mass, to.mass), Damping(zeta_bend, kappa, from.inertia_y, to.inertia_y));
+  return absl::OkStatus();
+}
+
+void GenericWorld::AddLink(dBodyID b1, dBodyID b2, const std::array<double, 3>& anchor,
+                           const std::array<double, 3>& a, const std::array<double, 3>& p1,
+                           double k, double kappa, double c_axial, double c_bend) {
   Link link{nullptr, nullptr, nullptr, b1, b2};
   const dReal erp = dWorldGetERP(world_.world()), cfm = dWorldGetCFM(world_.world());
   link.shear = dJointCreateDBall(world_.world(), nullptr);
@@ -84,8 +83,7 @@ absl::Status GenericWorld::BuildSpringLink(const robots::Joint& j, dBodyID b1, d
 
   link.axial = dJointCreateDBall(world_.world(), nullptr);
   dJointAttach(link.axial, b1, b2);
-  dJointSetDBallAnchor1(link.axial, anchor[0] - length * a[0], anchor[1],
-                        anchor[2] - length * a[2]);
+  dJointSetDBallAnchor1(link.axial, p1[0], p1[1], p1[2]);
   dJointSetDBallAnchor2(link.axial, anchor[0], anchor[1], anchor[2]);
   const SoftRow axial = SpringDamper(k, c_axial, h_);
   dJointSetDBallParam(link.axial, dParamERP, axial.erp);
@@ -104,7 +102,10 @@ absl::Status GenericWorld::BuildSpringLink(const robots::Joint& j, dBodyID b1, d
   dJointSetAMotorParam(link.bend, dParamStopCFM, bend.cfm);
   dJointSetAMotorAngle(link.bend, 0, 0);
   links_.push_back(link);
-  return absl::OkStatus();
+}
+
+double GenericWorld::Damping(double zeta, double k, double a, double b) {
+  return 2 * zeta * std::sqrt(a == b ? k * a / 2 : k * (a * b / (a + b)));
 }
 
 double GenericWorld::LinkBend(const Link& l) {
@@ -121,12 +122,12 @@ absl::Status GenericWorld::BuildPiston(const robots::Actuator& a, int index,
                                        const ParamValues& v) {
   Piston p;
   p.actuator = index;
-  for (size_t i = 0; i < d_.bodies.size(); ++i) {
-    if (d_.bodies[i].name == a.body1) p.b1 = bodies_[i];
-    if (d_.bodies[i].name == a.body2) p.b2 = bodies_[i];
-  }
-  p.p1 = Eval(a.attach1, v);
-  p.p2 = Eval(a.attach2, v);
+  const auto [b1, p1] = Locate(BodyIndex(a.body1), Eval(a.attach1, v));
+  const auto [b2, p2] = Locate(BodyIndex(a.body2), Eval(a.attach2, v));
+  p.b1 = bodies_[b1];
+  p.b2 = bodies_[b2];
+  p.p1 = p1;
+  p.p2 = p2;
   p.force = Eval(a.force, v);
   p.k = Eval(a.return_stiffness, v);
   p.min = Eval(a.min_length, v);

@@ -54,15 +54,25 @@ void GenericWorld::ApplyJointTorques() {
 }
 
 void GenericWorld::ApplyEffects() {
+  // Forces on a body act at its centre; a split body's halves share them.
+  const Built& first = built_[0];
   if (fx_.tether_force > 0 || fx_.tether_stiffness > 0) {
-    const double travel = std::max(0.0, dBodyGetPosition(bodies_[0])[0] - start_[0][0]);
-    dBodyAddForce(bodies_[0], -(fx_.tether_force + fx_.tether_stiffness * travel), 0, 0);
+    auto x = [&](const dReal* p0, const dReal* p1) { return p1 ? (p0[0] + p1[0]) / 2 : p0[0]; };
+    const bool split = first.parts == 2;
+    const double now = x(dBodyGetPosition(bodies_[0]), split ? dBodyGetPosition(bodies_[1]) : nullptr);
+    const double start = x(start_[0].data(), split ? start_[1].data() : nullptr);
+    const double travel = std::max(0.0, now - start);
+    const double pull = -(fx_.tether_force + fx_.tether_stiffness * travel) / first.parts;
+    for (int part = 0; part < first.parts; ++part) dBodyAddForce(bodies_[part], pull, 0, 0);
   }
   if (fx_.drag > 0) {
-    for (dBodyID b : bodies_) {
-      const dReal* v = dBodyGetLinearVel(b);
-      dBodyAddForce(b, -fx_.drag * v[0], -fx_.drag * v[1], -fx_.drag * v[2]);
-    }
+    for (const Built& b : built_)
+      for (int part = 0; part < b.parts; ++part) {
+        const dBodyID body = bodies_[b.first + part];
+        const double c = fx_.drag / b.parts;
+        const dReal* v = dBodyGetLinearVel(body);
+        dBodyAddForce(body, -c * v[0], -c * v[1], -c * v[2]);
+      }
   }
   if (fx_.spring_softening > 0) SoftenLinks();
 }
@@ -157,7 +167,7 @@ sim::SimOutcome GenericWorld::CheckState() {
     const dReal* p = dBodyGetPosition(bodies_[i]);
     const dReal* v = dBodyGetLinearVel(bodies_[i]);
     const dReal* w = dBodyGetAngularVel(bodies_[i]);
-    const std::string& name = d_.bodies[i].name;
+    const std::string& name = body_names_[i];
     for (int k = 0; k < 3; ++k) {
       if (!std::isfinite(p[k]) || !std::isfinite(v[k]) || !std::isfinite(w[k]))
         return sim::SimOutcome::Failed(absl::StrCat("NaN in body ", name, " at t = ", time(), " s"));

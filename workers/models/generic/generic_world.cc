@@ -1,7 +1,9 @@
 #include "workers/models/generic/generic_world.h"
+#include "workers/models/generic/param_eval.h"
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
@@ -10,15 +12,6 @@
 
 namespace gaitforge::generic {
 namespace {
-
-std::array<double, 3> Eval(const robots::Vec3Expr& e, const ParamValues& v) {
-  auto f = [&v](const std::string& n) { return v(n); };
-  return {e[0].Eval(f), e[1].Eval(f), e[2].Eval(f)};
-}
-
-double Eval(const robots::Expr& e, const ParamValues& v) {
-  return e.Eval([&v](const std::string& n) { return v(n); });
-}
 
 // The divergence limits and timing every generic robot gives as parameters.
 constexpr const char* kRequired[] = {"simulation.timestep_s", "simulation.gravity_m_per_s2",
@@ -93,7 +86,8 @@ BuilderEffects::BuilderEffects(const ParamValues& v)
       actuator_lag(v.Effect("effect.actuator_lag_s")),
       servo_deadband(v.Effect("effect.servo_deadband_rad")),
       piston_deadband(v.Effect("effect.actuator_deadband_n")),
-      spring_softening(v.Effect("effect.spring_softening")) {}
+      spring_softening(v.Effect("effect.spring_softening")),
+      lump_compliance(v.Effect("effect.lump_compliance_per_mpa")) {}
 
 double ParamValues::Effect(const std::string& name) const {
   // A robot may declare an effect's parameter itself (the caterpillar's descriptor does).
@@ -138,92 +132,101 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   w->friction_ = Eval(d.ground->friction, v);
   w->contact_erp_ = Eval(d.ground->erp, v);
   w->contact_cfm_ = Eval(d.ground->cfm, v);
-  for (const robots::Body& b : d.bodies) {
-    w->body_friction_.push_back(b.friction ? Eval(*b.friction, v) : w->friction_);
-    w->contact_depth_.push_back(b.contact_depth ? Eval(*b.contact_depth, v) : 0.0);
-    if (!(w->body_friction_.back() >= 0 && w->contact_depth_.back() >= 0))
+  for (size_t i = 0; i < d.bodies.size(); ++i) {
+    const robots::Body& b = d.bodies[i];
+    const double mu = b.friction ? Eval(*b.friction, v) : w->friction_;
+    const double depth = b.contact_depth ? Eval(*b.contact_depth, v) : 0.0;
+    if (!(mu >= 0 && depth >= 0))
       return absl::InvalidArgumentError(absl::StrCat(
           b.mark.ToString(), ": body ", b.name, "'s friction and contact_depth must be >= 0"));
+    w->body_friction_.insert(w->body_friction_.end(), w->built_[i].parts, mu);
+    w->contact_depth_.insert(w->contact_depth_.end(), w->built_[i].parts, depth);
   }
+  const size_t n = w->bodies_.size();
   w->body_load_ = d.ground->friction_load == "body";
-  w->load_.assign(d.bodies.size(), 0.0);
-  w->contact_feedback_.resize(d.bodies.size() * kMaxContacts);
-  w->contact_count_.assign(d.bodies.size(), 0);
-  for (size_t i = 0; i < d.bodies.size(); ++i)
-    for (size_t k = i + 1; k < d.bodies.size(); ++k) {
-      bool joined = false;
-      for (const robots::Joint& j : d.joints)
-        joined = joined || (j.body1 == d.bodies[i].name && j.body2 == d.bodies[k].name) ||
-                 (j.body2 == d.bodies[i].name && j.body1 == d.bodies[k].name);
-      if (d.self_contact && !joined) w->contact_pairs_.emplace_back(i, k);
-    }
+  w->load_.assign(n, 0.0);
+  w->contact_feedback_.resize(n * kMaxContacts);
+  w->contact_count_.assign(n, 0);
+  // Bodies that a joint joins (a split body's halves too) overlap there and never touch.
+  for (size_t i = 0; i < n && d.self_contact; ++i)
+    for (size_t k = i + 1; k < n; ++k)
+      if (!dAreConnectedExcluding(w->bodies_[i], w->bodies_[k], dJointTypeContact))
+        w->contact_pairs_.emplace_back(i, k);
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;
 }
 
 absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
-  for (const robots::Body& b : d_.bodies) {
-    const auto size = Eval(b.size, v);
-    const auto pos = Eval(b.position, v);
-    const double m = Eval(b.mass, v);
-    if (!(size[0] > 0 && size[1] > 0 && size[2] > 0 && m > 0))
-      return absl::InvalidArgumentError(absl::StrCat(
-          b.mark.ToString(), ": body ", b.name, " needs a positive size and mass, got size [",
-          size[0], ", ", size[1], ", ", size[2], "] m and mass ", m, " kg"));
-    dBodyID body = dBodyCreate(world_.world());
-    dMass mass;
-    dMassSetBoxTotal(&mass, m, size[0], size[1], size[2]);
-    dBodySetMass(body, &mass);
-    dBodySetPosition(body, pos[0], pos[1], pos[2]);
-    if (b.pitch) {
-      dMatrix3 rot;
-      dRFromAxisAndAngle(rot, 0, 1, 0, Eval(*b.pitch, v));
-      dBodySetRotation(body, rot);
-    }
-    dGeomID geom = dCreateBox(world_.space(), size[0], size[1], size[2]);
-    dGeomSetBody(geom, body);
-    bodies_.push_back(body);
-    geoms_.push_back(geom);
-    masses_.push_back(m);
-    sizes_.push_back(size);
-    start_.push_back(pos);
-  }
+  for (size_t i = 0; i < d_.bodies.size(); ++i)
+    if (absl::Status s = BuildBody(static_cast<int>(i), v); !s.ok()) return s;
   return absl::OkStatus();
 }
 
+void GenericWorld::CreateBody(const std::string& name, const std::array<double, 3>& size,
+                              double mass, const std::array<double, 3>& pos,
+                              const dReal* rotation) {
+  dBodyID body = dBodyCreate(world_.world());
+  dMass m;
+  dMassSetBoxTotal(&m, mass, size[0], size[1], size[2]);
+  dBodySetMass(body, &m);
+  dBodySetPosition(body, pos[0], pos[1], pos[2]);
+  if (rotation) dBodySetRotation(body, rotation);
+  dGeomID geom = dCreateBox(world_.space(), size[0], size[1], size[2]);
+  dGeomSetBody(geom, body);
+  bodies_.push_back(body);
+  geoms_.push_back(geom);
+  masses_.push_back(mass);
+  sizes_.push_back(size);
+  start_.push_back(pos);
+  body_names_.push_back(name);
+}
+
 absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
-  // A joint's body; none (0) for the world frame.
-  auto body = [this](const std::string& name) -> dBodyID {
-    for (size_t i = 0; i < d_.bodies.size(); ++i)
-      if (d_.bodies[i].name == name) return bodies_[i];
-    return nullptr;
+  // A split body's halves are joined first (generic_resolution.cc).
+  for (size_t i = 0; i < built_.size(); ++i) {
+    const Built& b = built_[i];
+    if (b.parts != 2) continue;
+    const Split& s = splits_[i];
+    std::array<double, 3> p1;
+    for (int k = 0; k < 3; ++k) p1[k] = b.centre[k] - b.half_x * b.axis[k];
+    // The halves: reduced mass m/4, reduced inertia half the half-body's.
+    dMass half;
+    dBodyGetMass(bodies_[b.first], &half);
+    const double i_half = half.I[1 * 4 + 1];
+    AddLink(bodies_[b.first], bodies_[b.first + 1], b.centre, b.axis, p1, s.k, s.kappa,
+            Damping(s.zeta, s.k, half.mass, half.mass), Damping(s.zeta_bend, s.kappa, i_half, i_half));
+  }
+  // A joint's body (the half nearest its anchor, if split); none (0) for the world frame.
+  auto body = [this](const std::string& name, const std::array<double, 3>& anchor) -> dBodyID {
+    const int i = BodyIndex(name);
+    return i < 0 ? nullptr : bodies_[NearPart(i, anchor)];
   };
   for (const robots::Joint& j : d_.joints) {
     joint_link_.push_back(-1);
+    const auto anchor = j.type == "fixed" ? std::array<double, 3>{} : Eval(j.anchor, v);
     if (j.type == "spring_link") {
       joint_link_.back() = static_cast<int>(links_.size());
-      if (absl::Status s = BuildSpringLink(j, body(j.body1), body(j.body2), v); !s.ok()) return s;
+      if (absl::Status s = BuildSpringLink(j, v); !s.ok()) return s;
       joints_.push_back(links_.back().bend);
       springs_.push_back({});
       continue;
     }
     if (j.type == "fixed") {
       dJointID weld = dJointCreateFixed(world_.world(), nullptr);
-      dJointAttach(weld, body(j.body1), body(j.body2));
+      dJointAttach(weld, body(j.body1, anchor), body(j.body2, anchor));
       dJointSetFixed(weld);
       joints_.push_back(weld);
       springs_.push_back({});
       continue;
     }
     if (j.type == "universal") {
-      joints_.push_back(BuildUniversal(j, body(j.body1), body(j.body2), v));
+      joints_.push_back(BuildUniversal(j, body(j.body1, anchor), body(j.body2, anchor), v));
       springs_.push_back(SpringOf(j, v));
       continue;
     }
     dJointID hinge = dJointCreateHinge(world_.world(), nullptr);
-    dJointAttach(hinge, body(j.body1), body(j.body2));
-    const auto anchor = Eval(j.anchor, v);
+    dJointAttach(hinge, body(j.body1, anchor), body(j.body2, anchor));
     dJointSetHingeAnchor(hinge, anchor[0], anchor[1], anchor[2]);
     dJointSetHingeAxis(hinge, j.axis[0], j.axis[1], j.axis[2]);
     if (j.lo) {
@@ -301,9 +304,8 @@ void GenericWorld::BuildMarkers(const ParamValues& v) {
     for (size_t i = 0; i < s.names.size(); ++i) {
       Marker m;
       m.name = s.names[i];
-      for (size_t b = 0; b < d_.bodies.size(); ++b)
-        if (d_.bodies[b].name == s.bodies[i]) m.body = static_cast<int>(b);
-      if (s.offset) m.offset = Eval(*s.offset, v);
+      std::tie(m.body, m.offset) = Locate(BodyIndex(s.bodies[i]),
+                                          s.offset ? Eval(*s.offset, v) : std::array<double, 3>{});
       markers_.push_back(m);
     }
   }

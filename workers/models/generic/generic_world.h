@@ -71,6 +71,7 @@ struct BuilderEffects {
   double servo_deadband = 0;  // rad
   double piston_deadband = 0;  // N: Coulomb friction along each piston's line
   double spring_softening = 0;  // 1/m: spring links' axial force k x / sqrt(1 + (s x)^2)
+  double lump_compliance = 0;   // 1/MPa: bodies of spring links as two deformable halves
 };
 
 class GenericWorld : public RobotWorld {
@@ -116,8 +117,32 @@ class GenericWorld : public RobotWorld {
   dJointID BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyID b2, const ParamValues& v);
   absl::Status BuildActuators(const ParamValues& v);
   void BuildMarkers(const ParamValues& v);
-  absl::Status BuildSpringLink(const robots::Joint& j, dBodyID b1, dBodyID b2,
-                               const ParamValues& v);
+  absl::Status BuildSpringLink(const robots::Joint& j, const ParamValues& v);
+  // A spring link's rows between b1 and b2: the axial spring from b1's point p1 to b2's
+  // point at the anchor, along `axis` (world frame, at rest), stiffnesses k (N/m) and kappa
+  // (N m/rad), dampers c (N s/m) and c_bend (N m s/rad).
+  void AddLink(dBodyID b1, dBodyID b2, const std::array<double, 3>& anchor,
+               const std::array<double, 3>& axis, const std::array<double, 3>& p1, double k,
+               double kappa, double c, double c_bend);
+  // Resolution (effect.lump_compliance_per_mpa; generic_resolution.cc): a body a spring link
+  // joins is built as two halves along its x axis, joined at its centre by the block of
+  // material between them (a spring link: axial E A / l, bending E I / l, l its half
+  // length, damped like the body's first spring link), unless the block is too stiff for
+  // the timestep.
+  struct Split {
+    bool on = false;
+    double k = 0, kappa = 0, zeta = 0, zeta_bend = 0;
+  };
+  Split SplitOf(int body, const std::array<double, 3>& size, double mass,
+                const ParamValues& v) const;
+  void CreateBody(const std::string& name, const std::array<double, 3>& size, double mass,
+                  const std::array<double, 3>& pos, const dReal* rotation);
+  absl::Status BuildBody(int index, const ParamValues& v);
+  // The built body of descriptor body `body` nearest a world point (its half, if split),
+  // and a point of its frame in the frame of the half that holds it (x <= 0: the rear).
+  int NearPart(int body, const std::array<double, 3>& world) const;
+  std::pair<int, std::array<double, 3>> Locate(int body, std::array<double, 3> point) const;
+  int BodyIndex(const std::string& name) const;  // in the descriptor; -1: the world
   absl::Status BuildPiston(const robots::Actuator& a, int index, const ParamValues& v);
   void ApplyJointTorques();
   void ApplyPistons(const std::vector<double>& commands);
@@ -149,6 +174,9 @@ class GenericWorld : public RobotWorld {
   };
   void SoftenLinks();
   static double LinkBend(const Link& l);
+  // A fraction zeta of critical damping, c = 2 zeta sqrt(k mu), for two bodies joined by a
+  // spring, mu their reduced mass (or inertia) a b / (a + b); the exact half for equal bodies.
+  static double Damping(double zeta, double k, double a, double b);
   struct Piston {
     int actuator = 0;  // its index in the descriptor's actuators (and commands)
     dBodyID b1 = nullptr, b2 = nullptr;
@@ -177,7 +205,18 @@ class GenericWorld : public RobotWorld {
   const robots::RobotDescriptor& d_;
   const double h_;
   sim::World world_;
-  std::vector<dBodyID> bodies_;
+  // Per descriptor body: its first ODE body, how many (2 when split), the halves' offset
+  // from its centre along its x axis (m), that axis and its centre at the start.
+  struct Built {
+    int first = 0, parts = 1;
+    double half_x = 0;
+    double mass = 0, inertia_y = 0;  // the whole body's (kg, kg m^2 about its y)
+    std::array<double, 3> axis{1, 0, 0}, centre{};
+  };
+  std::vector<Built> built_;
+  std::vector<Split> splits_;             // per descriptor body
+  std::vector<std::string> body_names_;  // per ODE body, for messages
+  std::vector<dBodyID> bodies_;           // ODE bodies, rear half first where split
   std::vector<dGeomID> geoms_;
   std::vector<double> masses_;
   std::vector<std::array<double, 3>> sizes_;  // box lengths, body frame (m)
