@@ -178,7 +178,13 @@ const std::vector<ControllerKind>& ControllerKinds() {
        &PhaseOnOffGenes,
        &PhaseOnOffPeriod,
        &PhaseOnOffCommands,
-       false},
+       false,
+       0,
+       nullptr,
+       nullptr,
+       nullptr,
+       0.05,  // a pneumatic valve's fastest useful cycle; the lumped model's own limits
+       10},
       {"hold",
        "no gait: every actuator holds its zero set-point, no genes (a passive structure, "
        "or one whose motion comes from its start or from gravity); a cycle is 1 s",

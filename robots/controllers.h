@@ -37,6 +37,9 @@ struct ControllerKind {
                   std::vector<double>& state) = nullptr;
   std::vector<double> (*state_commands)(const Controller& c, const std::vector<double>& genes,
                                         const std::vector<double>& state) = nullptr;
+  // The gait periods (s) the kind can run; a genotype outside is an invalid evaluation
+  // with the reason. Wider than any robot's gene range, so that studies may explore beyond.
+  double min_period_s = 0, max_period_s = 1e300;
 };
 
 // The commands of one genotype over a run, asked in time order. A stateless kind is a

@@ -1,6 +1,8 @@
 // The diagnosis spec's rules: its defaults and the checks that name a bad field.
 #include "services/diagnosis/spec.h"
 
+#include <algorithm>
+
 #include <string>
 #include <vector>
 
@@ -42,7 +44,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
     for (const auto& o : core::ObjectiveCatalog())
       if (!o.calibrates.empty()) known.push_back(o.calibrates);
     for (const std::string& name : robots::RobotNames())
-      if (robots::Robot(name).model == "generic") known.push_back(name);
+      if (robots::Robot(name).model == "generic" &&
+          std::find(known.begin(), known.end(), name) == known.end())
+        known.push_back(name);
     return absl::InvalidArgumentError(absl::StrCat(
         "field 'robot': '", d.robot(), "' is not a robot gaitforge can diagnose (built in: ",
         absl::StrJoin(known, ", "),

@@ -20,7 +20,7 @@ using ::testing::HasSubstr;
 TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
   auto list = RunCommand(Bin("gaitforge") + " robots");
   ASSERT_EQ(list.exit_code, 0) << list.err;
-  EXPECT_THAT(list.out, HasSubstr("caterpillar  caterpillar  13  18"));
+  EXPECT_THAT(list.out, HasSubstr("caterpillar  generic  13  18"));
 
   auto show = RunCommand(Bin("gaitforge") + " robots caterpillar --json");
   ASSERT_EQ(show.exit_code, 0) << show.err;

@@ -2,8 +2,7 @@
 
 #include <stdexcept>
 
-#include "workers/models/caterpillar/calibration_objective.h"
-#include "workers/models/caterpillar/caterpillar_objective.h"
+#include "workers/models/generic/generic_calibration.h"
 #include "workers/models/generic/generic_objective.h"
 
 namespace gaitforge::worker {
@@ -11,9 +10,12 @@ namespace gaitforge::worker {
 absl::StatusOr<objectives::ObjectiveRegistry> WorkerRegistry() {
   objectives::ObjectiveRegistry registry = objectives::DefaultRegistry();
   try {
-    caterpillar::RegisterCaterpillar(registry);
-    caterpillar::RegisterCaterpillarCalibration(registry);
     generic::RegisterGeneric(registry);
+    // The caterpillar paper's objective names (stored studies and examples use them).
+    generic::RegisterRobotObjective(registry, "caterpillar.distance", generic::kRobotDistanceName,
+                                    "caterpillar");
+    generic::RegisterRobotObjective(registry, "caterpillar.calibration",
+                                    generic::kRobotCalibrationName, "caterpillar");
   } catch (const std::exception& e) {
     return absl::FailedPreconditionError(e.what());
   }

@@ -121,12 +121,12 @@ TEST(CaterpillarParams, EveryDescriptorNumberReachesTheModel) {
   }
 }
 
-TEST(CaterpillarParams, ADescriptorOfAnotherModelIsRefused) {
+TEST(CaterpillarParams, ADescriptorOfAnotherRobotIsRefused) {
   std::string t = DefaultText();
-  t.replace(t.find("model: caterpillar"), 18, "model: arm");
+  t.replace(t.find("name: caterpillar"), 17, "name: arm");
   auto p = ParseCaterpillarParams(t, "copy.yaml");
   ASSERT_FALSE(p.ok());
-  EXPECT_THAT(std::string(p.status().message()), HasSubstr("not the caterpillar model"));
+  EXPECT_THAT(std::string(p.status().message()), HasSubstr("robot 'arm' is not the caterpillar"));
 }
 
 TEST(CaterpillarParams, JsonTextIsAccepted) {

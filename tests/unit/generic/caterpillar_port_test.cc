@@ -81,6 +81,12 @@ TEST(CaterpillarPort, GaitFitnessIsBitIdenticalToTheDedicatedModel) {
     const GaitResult got = EvaluateGait(d, values, genes);
     ASSERT_EQ(got.valid, want.valid) << got.reason << " / " << want.reason;
     EXPECT_EQ(got.distance_per_cycle_m, want.distance_per_cycle_m);
+    if (want.valid) {  // the paper objective's metrics, also bit for bit
+      EXPECT_EQ(got.max_body_pitch_rad, want.max_body_pitch_rad);
+      EXPECT_EQ(got.max_stroke_m, want.max_stroke_m);
+      EXPECT_EQ(got.piston_work_j, want.actuator_energy_j);
+      EXPECT_EQ(got.airborne_fraction, want.airborne_fraction);
+    }
     valid += want.valid;
   }
   EXPECT_GT(valid, 20);

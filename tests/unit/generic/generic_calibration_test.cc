@@ -193,7 +193,9 @@ TEST_F(GenericCalibrationTest, EffectsApplyWhereTheRobotHasTheirParts) {
     if (!e.params.empty() && e.attaches != "servos")
       EXPECT_EQ(effects::WhyNotApplicable(e, cat), "") << e.id;
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), cat),
-              HasSubstr("through the generic builder"));
+              HasSubstr("it attaches to servos, which caterpillar lacks"));
+  EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("actuator.deadband"), robots::Robot("walker")),
+              HasSubstr("it attaches to pistons, which walker lacks"));
   EXPECT_EQ(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), robots::Robot("walker")), "");
   EXPECT_EQ(effects::WhyNotApplicable(*effects::FindEffect("tether.constant"), TwoBox()), "");
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("mass.offset"), TwoBox()),

@@ -111,9 +111,10 @@ absl::Status SetField(CaterpillarParams& p, std::string_view name, double value)
 }
 
 absl::StatusOr<CaterpillarParams> CaterpillarParamsFrom(const robots::RobotDescriptor& d) {
-  if (d.model != "caterpillar") {
-    return absl::InvalidArgumentError(absl::StrCat(
-        d.source, ": model '", d.model, "' is not the caterpillar model (model: caterpillar)"));
+  // The dedicated model reads the caterpillar's parameters; the generic builder builds it.
+  if (d.name != "caterpillar") {
+    return absl::InvalidArgumentError(
+        absl::StrCat(d.source, ": robot '", d.name, "' is not the caterpillar"));
   }
   CaterpillarParams p;
   for (const robots::Parameter& param : d.parameters) {

@@ -15,13 +15,23 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
   if (genes.size() != c.genes.size())
     return absl::InvalidArgumentError(absl::StrCat(d.name, " takes ", c.genes.size(),
                                                    " genes, got ", genes.size()));
-  const robots::ControllerKind* kind = robots::FindControllerKind(c.kind);
+  for (size_t i = 0; i < genes.size(); ++i)
+    if (!std::isfinite(genes[i]))
+      return absl::InvalidArgumentError(absl::StrCat("gene ", i, " (", c.genes[i].name, ") is not finite"));
+  const robots::ControllerKind& kind = *robots::FindControllerKind(c.kind);
+  const double period = kind.period_s(genes);
+  if (!(period > 0) || period < kind.min_period_s || period > kind.max_period_s)
+    return absl::InvalidArgumentError(
+        kind.max_period_s < 1e300
+            ? absl::StrCat("gait period T = ", period, " s is outside [", kind.min_period_s, ", ",
+                           kind.max_period_s, "] s")
+            : absl::StrCat("the genes give a gait period of ", period, " s"));
   // Servos take set-point angles; pistons the fraction of their force (on/off: 1 or 0).
   for (const std::string& name : c.actuators)
     for (const robots::Actuator& a : d.actuators)
-      if (a.name == name && (a.type == "servo") != kind->set_points)
+      if (a.name == name && (a.type == "servo") != kind.set_points)
         return absl::InvalidArgumentError(absl::StrCat(
-            "controller kind ", c.kind, kind->set_points ? " gives set-point angles" : " switches on and off",
+            "controller kind ", c.kind, kind.set_points ? " gives set-point angles" : " switches on and off",
             ", which ", a.type, " ", a.name, " cannot take"));
   return InDescriptorOrder(d, robots::ControllerRun(c, genes).At(t));
 }
@@ -148,8 +158,10 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   const int measured =
       o.measured_cycles >= 0 ? o.measured_cycles : static_cast<int>(v("simulation.measured_cycles"));
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
-  int64_t settle_steps = 0, total = 0;
+  int64_t settle_steps = 0, total = 0, airborne = 0;
   double start_x = 0, end_x = 0, start_energy = 0;
+  const int last_body = static_cast<int>(d.bodies.size()) - 1;
+  bool contacts_known = true;
   const auto steps = [&](const RobotWorld& w) {
     if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
@@ -163,6 +175,15 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
       start_x = w.CentreOfMass()[0];
       start_energy = w.servo_energy();
     }
+    if (i > settle_steps) {  // the state after a measured step
+      airborne += w.ground_contacts() == 0;
+      r.piston_work_j += w.last_piston_work();
+      contacts_known = contacts_known && w.ground_contacts() >= 0;
+      for (double e : w.piston_extensions()) r.max_stroke_m = std::max(r.max_stroke_m, e);
+      const auto rear = w.BodyCentre(0), front = w.BodyCentre(last_body);
+      r.max_body_pitch_rad =
+          std::max(r.max_body_pitch_rad, std::fabs(std::atan2(front[2] - rear[2], front[0] - rear[0])));
+    }
     r.max_tilt_rad = w.max_tilt();
     r.torque_limited_fraction = w.torque_limited_fraction();
     r.servo_energy_j = w.servo_energy() - start_energy;
@@ -174,6 +195,8 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   if (!Run(d, v, genes, o.timestep_s, offset, o.engine, steps, each, &r.reason, &r.simulated_s))
     return r;
   r.valid = true;
+  const int64_t measured_steps = std::max<int64_t>(1, total - settle_steps);
+  r.airborne_fraction = contacts_known ? static_cast<double>(airborne) / static_cast<double>(measured_steps) : -1;
   r.travel_m = end_x - start_x;
   r.distance_per_cycle_m = r.travel_m / measured;
   return r;

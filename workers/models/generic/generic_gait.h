@@ -35,6 +35,14 @@ struct GaitResult {
   double torque_limited_fraction = 0; // GenericWorld::torque_limited_fraction
   double servo_energy_j = 0;          // over the measured part (cycles or duration_s)
   double weight_n = 0;                // total mass times gravity
+  // Over the measured part: the largest |angle| of the line from the first body's centre
+  // to the last one's against the ground (rad), the share of steps without a ground contact
+  // (-1: the engine does not say), the pistons' work (J) and their largest extension beyond
+  // min_length (m; 0 without pistons).
+  double max_body_pitch_rad = 0;
+  double airborne_fraction = 0;
+  double piston_work_j = 0;
+  double max_stroke_m = 0;
 };
 
 // Commands (rad) of each actuator, in descriptor order, at time t for these genes; an

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "robots/registry.h"
 #include "workers/models/generic/generic_calibration.h"
@@ -70,8 +71,17 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
   r.metrics["max_tilt_rad"] = g.max_tilt_rad;
   r.metrics["torque_limited_fraction"] = g.torque_limited_fraction;
   r.metrics["servo_energy_j"] = g.servo_energy_j;
+  r.metrics["max_body_pitch"] = g.max_body_pitch_rad;
+  if (g.airborne_fraction >= 0) r.metrics["airborne_fraction"] = g.airborne_fraction;
+  const bool pistons = std::any_of((*robot)->actuators.begin(), (*robot)->actuators.end(),
+                                   [](const robots::Actuator& a) { return a.type == "piston"; });
+  if (pistons) {
+    r.metrics["max_stroke"] = g.max_stroke_m;
+    r.metrics["actuator_energy"] = g.piston_work_j;
+  }
   // Cost of transport: work per weight and distance (dimensionless; paper 002's measure).
-  const double cot = g.travel_m > 0 ? g.servo_energy_j / (g.weight_n * g.travel_m) : NAN;
+  const double work = g.servo_energy_j + g.piston_work_j;
+  const double cot = g.travel_m > 0 ? work / (g.weight_n * g.travel_m) : NAN;
   if (g.travel_m > 0) r.metrics["cost_of_transport"] = cot;
   if (o.duration_s > 0) {
     r.fitness = g.travel_m;
@@ -89,6 +99,35 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
   }
   r.valid = true;
   return r;
+}
+
+namespace {
+
+class RobotObjective : public objectives::Objective {
+ public:
+  RobotObjective(std::shared_ptr<const objectives::Objective> objective, std::string robot)
+      : objective_(std::move(objective)), robot_(std::move(robot)) {}
+  objectives::EvalResult Evaluate(const objectives::EvalInput& in) const override {
+    objectives::EvalInput mine = in;
+    mine.robot = robot_;
+    mine.robot_descriptor.clear();
+    return objective_->Evaluate(mine);
+  }
+
+ private:
+  std::shared_ptr<const objectives::Objective> objective_;
+  std::string robot_;
+};
+
+}  // namespace
+
+void RegisterRobotObjective(objectives::ObjectiveRegistry& registry, const std::string& name,
+                            const std::string& objective, const std::string& robot) {
+  std::shared_ptr<const objectives::Objective> inner;
+  if (objective == kRobotDistanceName) inner = std::make_shared<RobotDistanceObjective>();
+  if (objective == kRobotCalibrationName) inner = std::make_shared<RobotCalibrationObjective>();
+  if (!inner) throw std::invalid_argument("RegisterRobotObjective: no objective " + objective);
+  registry.Register(name, std::make_shared<RobotObjective>(std::move(inner), robot));
 }
 
 void RegisterGeneric(objectives::ObjectiveRegistry& registry) {

@@ -3,7 +3,12 @@
 // any generic robot, the robot named by the job (EvalInput::robot, robot_descriptor).
 // Params: cycles, settle_cycles, timestep_ms (defaults: the robot's simulation.*).
 // Option set: overrides NAME=VALUE,... of the robot's parameters, each in its range.
-// Metrics: distance_per_cycle, simulated_s.
+// Metrics: distance_per_cycle (or travel), simulated_s, max_tilt_rad,
+// torque_limited_fraction, servo_energy_j, cost_of_transport, max_body_pitch,
+// airborne_fraction; with pistons max_stroke and actuator_energy (docs/objectives.md).
+#include <memory>
+#include <string>
+
 #include "workers/objectives/objective.h"
 
 namespace gaitforge::generic {
@@ -16,5 +21,11 @@ class RobotDistanceObjective : public objectives::Objective {
 };
 
 void RegisterGeneric(objectives::ObjectiveRegistry& registry);
+
+// A built-in robot's own name for a robot-agnostic objective (the paper study's
+// "caterpillar.distance" is robot.distance of robot caterpillar): `name` evaluates as
+// `objective` (robot.distance or robot.calibration) with the job's robot set to `robot`.
+void RegisterRobotObjective(objectives::ObjectiveRegistry& registry, const std::string& name,
+                            const std::string& objective, const std::string& robot);
 
 }  // namespace gaitforge::generic

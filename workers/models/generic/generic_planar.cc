@@ -152,6 +152,7 @@ absl::Status GenericWorld::BuildPiston(const robots::Actuator& a, int index,
         a.mark.ToString(), ": piston ", a.name, " starts ", s.length, " m long, outside its stroke [",
         p.min, ", ", p.max, "] m"));
   piston_lengths_.push_back(s.length);
+  piston_extensions_.push_back(s.length - p.min);
   return absl::OkStatus();
 }
 
@@ -267,7 +268,13 @@ void GenericWorld::SoftenLinks() {
 }
 
 void GenericWorld::MeasurePistons() {
-  for (size_t i = 0; i < pistons_.size(); ++i) piston_lengths_[i] = StateOf(pistons_[i]).length;
+  piston_work_ = 0;
+  for (size_t i = 0; i < pistons_.size(); ++i) {
+    const double length = StateOf(pistons_[i]).length;
+    piston_work_ += pistons_[i].push * (length - piston_lengths_[i]);
+    piston_lengths_[i] = length;
+    piston_extensions_[i] = length - pistons_[i].min;
+  }
 }
 
 sim::SimOutcome GenericWorld::CheckPistons() const {

@@ -279,6 +279,14 @@ std::array<double, 3> GenericWorld::CentreOfMass() const {
   return c;
 }
 
+std::array<double, 3> GenericWorld::BodyCentre(int body) const {
+  const Built& b = built_[body];
+  const dReal* p = dBodyGetPosition(bodies_[b.first]);
+  if (b.parts == 1) return {p[0], p[1], p[2]};
+  const dReal* q = dBodyGetPosition(bodies_[b.first + 1]);
+  return {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2};
+}
+
 double GenericWorld::JointAngle(int joint, int axis) const {
   if (joint_link_[joint] >= 0) return LinkBend(links_[joint_link_[joint]]);
   const dJointID j = joints_[joint];

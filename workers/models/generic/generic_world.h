@@ -98,7 +98,10 @@ class GenericWorld : public RobotWorld {
   double JointAngle(int joint, int axis = 1) const;
   // The value of a recording channel ("hinge.angle", "tip.x"); NotFound for another.
   absl::StatusOr<double> Channel(const std::string& name) const override;
-  int ground_contacts() const { return ground_contacts_; }
+  int ground_contacts() const override { return ground_contacts_; }
+  std::array<double, 3> BodyCentre(int body) const override;
+  double last_piston_work() const override { return piston_work_; }
+  const std::vector<double>& piston_extensions() const override { return piston_extensions_; }
   // The largest tilt of the first body (its roll or pitch against the world's level, rad)
   // over the steps so far.
   double max_tilt() const override { return max_tilt_; }
@@ -231,6 +234,8 @@ class GenericWorld : public RobotWorld {
   std::vector<int> joint_link_;  // per descriptor joint: its index in links_, or -1
   std::vector<Piston> pistons_;
   std::vector<double> piston_lengths_;  // after the last step
+  std::vector<double> piston_extensions_;  // length - min_length, after the last step
+  double piston_work_ = 0;  // in the last step
   // Self-contact: the pairs of bodies (i < j) that no joint joins, in order.
   std::vector<std::pair<int, int>> contact_pairs_;
   struct Marker {

@@ -37,6 +37,18 @@ class RobotWorld {
   // The servos' positive mechanical work so far (J).
   virtual double servo_energy() const = 0;
   virtual double total_mass() const = 0;
+  // A descriptor body's centre (m, world frame; the mean of its halves when split).
+  virtual std::array<double, 3> BodyCentre(int body) const = 0;
+  // Ground contacts in the last step; -1 when the engine does not say.
+  virtual int ground_contacts() const { return -1; }
+  // Pistons (engines that build them): the work of their pushes in the last step (J; each
+  // push times its change of length) and their extensions beyond min_length after the last
+  // step (m).
+  virtual double last_piston_work() const { return 0; }
+  virtual const std::vector<double>& piston_extensions() const {
+    static const std::vector<double> none;
+    return none;
+  }
 };
 
 // Builds descriptor d with these values at rest (timestep_s <= 0: the robot's own).

@@ -38,6 +38,7 @@ class MujocoWorld : public generic::RobotWorld {
   double total_mass() const override;
   // Body i's (descriptor order) centre, world frame (m).
   std::array<double, 3> BodyPosition(int i) const;
+  std::array<double, 3> BodyCentre(int i) const override { return BodyPosition(i); }
   // The world position of joint j's (descriptor order) anchor as MuJoCo holds it (m).
   std::array<double, 3> JointAnchor(int j) const;
 
