@@ -7,8 +7,10 @@
 #include <cstdio>
 #include <string>
 
+#include "robots/registry.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/gait.h"
+#include "workers/models/generic/generic_gait.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace {
@@ -37,16 +39,33 @@ int main(int argc, char** argv) {
   const CaterpillarParams& params = DefaultCaterpillarParams();
   const Gait gait = *Gait::FromGenes(TravellingWaveGenes(1.0));
 
+  // The two builds side by side, alternating so that both see the same machine: the
+  // generic builder from the descriptor (what studies run) and the dedicated model.
+  const auto& robot = gaitforge::robots::Robot("caterpillar");
+  const gaitforge::generic::ParamValues values(robot);
+  const std::vector<double> genes = TravellingWaveGenes(1.0);
   EvaluateGait(params, gait);  // warm-up
-  const int kRuns = 20;
-  double simulated = 0;
-  const double t0 = CpuSeconds();
-  for (int i = 0; i < kRuns; ++i) simulated += EvaluateGait(params, gait).simulated_s;
-  const double cpu = CpuSeconds() - t0;
+  gaitforge::generic::EvaluateGait(robot, values, genes);
+  const int kRounds = 10, kRuns = 4;
+  double simulated[2] = {0, 0}, cpu[2] = {0, 0};
+  for (int round = 0; round < kRounds; ++round) {
+    double t0 = CpuSeconds();
+    for (int i = 0; i < kRuns; ++i)
+      simulated[0] += gaitforge::generic::EvaluateGait(robot, values, genes).simulated_s;
+    cpu[0] += CpuSeconds() - t0;
+    t0 = CpuSeconds();
+    for (int i = 0; i < kRuns; ++i) simulated[1] += EvaluateGait(params, gait).simulated_s;
+    cpu[1] += CpuSeconds() - t0;
+  }
   std::printf("timestep_s %g\n", params.simulation.timestep_s);
-  std::printf("simulated_s_per_core_s %.1f\n", simulated / cpu);
-  std::printf("us_per_step %.2f\n", 1e6 * cpu / (simulated / params.simulation.timestep_s));
-  std::printf("evaluations_per_s_per_thread_3s_gait %.1f\n", kRuns / cpu);
+  const char* names[2] = {"generic", "dedicated"};
+  for (int b = 0; b < 2; ++b) {
+    std::printf("%s simulated_s_per_core_s %.1f us_per_step %.2f evaluations_per_s_per_thread_3s_gait %.1f\n",
+                names[b], simulated[b] / cpu[b],
+                1e6 * cpu[b] / (simulated[b] / params.simulation.timestep_s),
+                kRounds * kRuns / cpu[b]);
+  }
+  std::printf("anchor: the dedicated model, about 210 simulated s per core-second (issue 23); goal 250\n");
 
   EvalOptions many;
   many.measured_cycles = 20;

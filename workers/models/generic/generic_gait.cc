@@ -33,16 +33,23 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
         return absl::InvalidArgumentError(absl::StrCat(
             "controller kind ", c.kind, kind.set_points ? " gives set-point angles" : " switches on and off",
             ", which ", a.type, " ", a.name, " cannot take"));
-  return InDescriptorOrder(d, robots::ControllerRun(c, genes).At(t));
+  return DescriptorOrder(d)(robots::ControllerRun(c, genes).At(t));
 }
 
-std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
-                                      const std::vector<double>& command) {
-  const robots::Controller& c = d.controller;
-  std::vector<double> out(d.actuators.size(), 0.0);
-  for (size_t k = 0; k < c.actuators.size(); ++k)
+DescriptorOrder::DescriptorOrder(const robots::RobotDescriptor& d) : actuators_(d.actuators.size()) {
+  for (const std::string& name : d.controller.actuators)
     for (size_t i = 0; i < d.actuators.size(); ++i)
-      if (d.actuators[i].name == c.actuators[k]) out[i] = command[k];
+      if (d.actuators[i].name == name) slot_.push_back(i);
+}
+
+void DescriptorOrder::Place(const std::vector<double>& command, std::vector<double>& out) const {
+  out.assign(actuators_, 0.0);
+  for (size_t k = 0; k < slot_.size() && k < command.size(); ++k) out[slot_[k]] = command[k];
+}
+
+std::vector<double> DescriptorOrder::operator()(const std::vector<double>& command) const {
+  std::vector<double> out;
+  Place(command, out);
   return out;
 }
 
@@ -111,10 +118,12 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
                                 v.Effect("effect.actuator_delay_s"), w.timestep());
   const int64_t total = steps(w);
   robots::ControllerRun controller(d.controller, genes);
+  const DescriptorOrder order(d);
+  std::vector<double> commands;
   for (int64_t i = 0; i < total; ++i) {
     each(w, i);
-    const sim::SimOutcome out = w.Step(InDescriptorOrder(
-        d, delayed.At(controller, i, time_offset_s, d.controller.actuators.size())));
+    order.Place(delayed.At(controller, i, time_offset_s, d.controller.actuators.size()), commands);
+    const sim::SimOutcome out = w.Step(commands);
     if (!out.ok) {
       *reason = out.reason;
       *simulated_s = w.time();
@@ -187,7 +196,7 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
     r.max_tilt_rad = w.max_tilt();
     r.torque_limited_fraction = w.torque_limited_fraction();
     r.servo_energy_j = w.servo_energy() - start_energy;
-    r.weight_n = w.total_mass() * v("simulation.gravity_m_per_s2");
+    if (i == 0) r.weight_n = w.total_mass() * v("simulation.gravity_m_per_s2");
     if (i == total) end_x = w.CentreOfMass()[0];
   };
   const double offset =

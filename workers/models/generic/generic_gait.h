@@ -50,9 +50,19 @@ struct GaitResult {
 absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
                                              const std::vector<double>& genes, double t);
 
-// A command vector in the controller's actuator order, placed in descriptor order.
-std::vector<double> InDescriptorOrder(const robots::RobotDescriptor& d,
-                                      const std::vector<double>& command);
+// Places a command vector in the controller's actuator order into descriptor order: the
+// mapping is worked out once, as a gait runs it every step.
+class DescriptorOrder {
+ public:
+  explicit DescriptorOrder(const robots::RobotDescriptor& d);
+  // out[slot of k] = command[k]; the other actuators 0. `out` is resized as needed.
+  void Place(const std::vector<double>& command, std::vector<double>& out) const;
+  std::vector<double> operator()(const std::vector<double>& command) const;
+
+ private:
+  size_t actuators_;
+  std::vector<size_t> slot_;  // per controller actuator: its descriptor index
+};
 
 // The robot's channels (its sensors: robots::RobotDescriptor::Channels) sampled at rate_hz,
 // from t = 0, over `cycles` gait periods from rest; rate_hz must give a whole number of

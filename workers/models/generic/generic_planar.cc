@@ -347,15 +347,12 @@ void GenericWorld::AddPlanarGroundContacts() {
 // their half-diagonals together cannot touch and are skipped. A planar robot's contacts are
 // folded onto its plane, so that forces stay in x-z.
 void GenericWorld::AddSelfContacts() {
-  for (const auto& [i, j] : contact_pairs_) {
+  for (const ContactPair& pair : contact_pairs_) {
+    const int i = pair.i, j = pair.j;
     const dReal* a = dBodyGetPosition(bodies_[i]);
     const dReal* b = dBodyGetPosition(bodies_[j]);
     const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    const auto& si = sizes_[i];
-    const auto& sj = sizes_[j];
-    const double reach = 0.5 * (std::sqrt(si[0] * si[0] + si[1] * si[1] + si[2] * si[2]) +
-                                std::sqrt(sj[0] * sj[0] + sj[1] * sj[1] + sj[2] * sj[2]));
-    if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
+    if (dx * dx + dy * dy + dz * dz > pair.reach2) continue;
     dContactGeom geoms[8];
     const int count = dCollide(geoms_[i], geoms_[j], 8, geoms, sizeof(dContactGeom));
     for (int k = 0; k < count; ++k) {

@@ -150,8 +150,13 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   // Bodies that a joint joins (a split body's halves too) overlap there and never touch.
   for (size_t i = 0; i < n && d.self_contact; ++i)
     for (size_t k = i + 1; k < n; ++k)
-      if (!dAreConnectedExcluding(w->bodies_[i], w->bodies_[k], dJointTypeContact))
-        w->contact_pairs_.emplace_back(i, k);
+      if (!dAreConnectedExcluding(w->bodies_[i], w->bodies_[k], dJointTypeContact)) {
+        const auto& a = w->sizes_[i];
+        const auto& b = w->sizes_[k];
+        const double reach = 0.5 * (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) +
+                                    std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
+        w->contact_pairs_.push_back({static_cast<int>(i), static_cast<int>(k), reach * reach});
+      }
   w->max_speed_ = v("simulation.max_speed_m_per_s");
   w->max_excursion_ = v("simulation.max_excursion_m");
   return w;

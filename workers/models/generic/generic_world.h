@@ -236,8 +236,14 @@ class GenericWorld : public RobotWorld {
   std::vector<double> piston_lengths_;  // after the last step
   std::vector<double> piston_extensions_;  // length - min_length, after the last step
   double piston_work_ = 0;  // in the last step
-  // Self-contact: the pairs of bodies (i < j) that no joint joins, in order.
-  std::vector<std::pair<int, int>> contact_pairs_;
+  // Self-contact: the pairs of bodies (i < j) that no joint joins, in order, and the
+  // squared distance of their centres beyond which they cannot touch (their half-diagonals
+  // together).
+  struct ContactPair {
+    int i = 0, j = 0;
+    double reach2 = 0;
+  };
+  std::vector<ContactPair> contact_pairs_;
   struct Marker {
     std::string name;
     int body = 0;
