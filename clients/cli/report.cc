@@ -16,6 +16,7 @@
 #include "clients/cli/processes.h"
 #include "robots/registry.h"
 #include "services/core/objective_catalog.h"
+#include "services/recording/recording.h"
 
 namespace gaitforge::cli {
 
@@ -30,11 +31,31 @@ std::string GenesArg(const v1::Individual& ind) {
 }
 
 
-// The study's model as gaitforge-sim flags: the objective's `set` overrides (a corrected
-// model), its timestep and settling cycles. `timestep_s` gets the step the study ran at
-// (0 when it used the model file's own).
+// The study's robot as a gaitforge-sim --robot: the descriptor the study carries (written
+// to a file named by its content), its built-in robot, or the robot its objective is named
+// for (caterpillar.distance: the caterpillar); "" when none.
+std::string StudyRobot(const v1::ObjectiveSpec& objective) {
+  if (!objective.robot_descriptor().empty()) {
+    const std::string path =
+        (std::filesystem::temp_directory_path() /
+         ("gaitforge-robot-" + recording::ContentHash(objective.robot_descriptor(), "").substr(0, 16) +
+          ".yaml"))
+            .string();
+    if (!std::filesystem::exists(path)) std::ofstream(path) << objective.robot_descriptor();
+    return path;
+  }
+  if (!objective.robot().empty()) return objective.robot();
+  const core::ObjectiveInfo* info = core::FindObjective(objective.name());
+  return info ? (info->gait_robot.empty() ? info->calibrates : info->gait_robot) : "";
+}
+
+// The study's model as gaitforge-sim flags: its robot, the objective's `set` overrides (a
+// corrected model), its timestep and settling cycles. `timestep_s` gets the step the study
+// ran at (0 when it used the model file's own).
 std::vector<std::string> StudyModelFlags(const v1::ObjectiveSpec& objective, double* timestep_s) {
   std::vector<std::string> flags;
+  if (const std::string robot = StudyRobot(objective); !robot.empty())
+    flags.insert(flags.end(), {"--robot", robot});
   std::string set;
   if (auto it = objective.options().find("set"); it != objective.options().end()) set = it->second;
   *timestep_s = 0;

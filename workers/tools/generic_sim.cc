@@ -63,9 +63,9 @@ absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>&
   if (run.engine != "ode" && run.engine != "mujoco")
     return absl::InvalidArgumentError("--engine " + run.engine + ": one of ode, mujoco");
   sim::InitThread();
-  const auto sim = generic::SimulateChannels(d, *values, genes, run.settle_cycles + run.cycles,
-                                             run.rate_hz, 0,
-                                             run.engine == "mujoco" ? mujoco::Engine() : nullptr);
+  const auto sim = generic::SimulateChannels(d, *values, genes, run.cycles, run.rate_hz, 0,
+                                             run.engine == "mujoco" ? mujoco::Engine() : nullptr,
+                                             run.settle_cycles);
   if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
   return WriteChannels(sim.trajectory, out, d.name, run.robot_path, genes,
                        run.engine == "mujoco" ? "simulated by gaitforge-sim, MuJoCo build"

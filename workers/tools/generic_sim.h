@@ -24,8 +24,8 @@ struct GenericRun {
   std::string engine = "ode";
 };
 
-// The robot's channels over settle + measured cycles of `genes` from rest, written as a
-// recording CSV at `out` with its sidecar. The error names a bad gene count, a bad --set
+// The robot's channels over the measured cycles of `genes` after the settle cycles from
+// rest (times counted from rest), written as a recording CSV at `out` with its sidecar. The error names a bad gene count, a bad --set
 // or a diverging simulation.
 absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>& genes,
                                const std::string& out);

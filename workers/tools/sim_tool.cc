@@ -13,10 +13,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "workers/models/caterpillar/calibration_objective.h"
-#include "workers/models/caterpillar/gait.h"
-#include "workers/models/caterpillar/param_overrides.h"
-#include "services/recording/recording.h"
+#include "robots/controllers.h"
+#include "robots/onoff_waves.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::simtool {
@@ -83,50 +81,55 @@ absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string&
   return absl::OkStatus();
 }
 
-absl::Status WriteRecording(const caterpillar::MarkerTrajectory& m, const std::string& csv_path,
-                            const std::string& params_path, const std::vector<double>& genes,
-                            const std::string& note,
-                            const std::vector<std::pair<std::string, double>>& overrides) {
-  return WriteChannels(caterpillar::MarkerChannels(m), csv_path, "caterpillar", params_path, genes,
-                       note, overrides);
-}
-
-std::vector<SweepPoint> PeriodSweep(const caterpillar::CaterpillarParams& params,
-                                    const std::vector<double>& genes,
-                                    const std::vector<double>& scales,
-                                    const caterpillar::EvalOptions& options, int threads) {
+absl::StatusOr<std::vector<SweepPoint>> PeriodSweep(const robots::RobotDescriptor& d,
+                                                    const generic::ParamValues& values,
+                                                    const std::vector<double>& genes,
+                                                    const std::vector<double>& scales,
+                                                    const generic::GaitOptions& options,
+                                                    int threads) {
+  int period = -1, frequency = -1;
+  for (size_t k = 0; k < d.controller.genes.size(); ++k) {
+    if (d.controller.genes[k].name == "T") period = static_cast<int>(k);
+    if (d.controller.genes[k].name == "f") frequency = static_cast<int>(k);
+  }
+  if (period < 0 && frequency < 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "period-sweep: ", d.name, "'s controller (", d.controller.kind,
+        ") has no period gene T or frequency gene f"));
   std::vector<SweepPoint> out(scales.size());
   ParallelFor(static_cast<int>(scales.size()), threads, [&](int i) {
     std::vector<double> g = genes;
-    g[12] = genes[12] * scales[i];
-    out[i].scale = scales[i];
-    out[i].period_s = g[12];
-    auto gait = caterpillar::Gait::FromGenes(g);
-    if (!gait.ok()) {
-      out[i].eval.reason = std::string(gait.status().message());
-      return;
+    if (period >= 0) {
+      g[period] = genes[period] * scales[i];
+    } else {
+      g[frequency] = genes[frequency] / scales[i];
     }
-    out[i].eval = caterpillar::EvaluateGait(params, *gait, options);
+    out[i].scale = scales[i];
+    out[i].period_s = robots::FindControllerKind(d.controller.kind)->period_s(g);
+    out[i].eval = generic::EvaluateGait(d, values, g, options);
   });
   return out;
 }
 
-std::vector<SweepPoint> WaveSweep(const caterpillar::CaterpillarParams& params,
-                                  const std::vector<double>& periods,
-                                  const caterpillar::EvalOptions& options, int threads) {
-  const auto& family = caterpillar::WaveFamily();
+absl::StatusOr<std::vector<SweepPoint>> WaveSweep(const robots::RobotDescriptor& d,
+                                                  const generic::ParamValues& values,
+                                                  const std::vector<double>& periods,
+                                                  const generic::GaitOptions& options,
+                                                  int threads) {
+  const int actuators = static_cast<int>(d.controller.actuators.size());
+  if (d.controller.kind != "phase_onoff" || actuators < 2 || actuators % 2 != 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "wave: the travelling waves need a phase_onoff controller over two rows of actuators; ",
+        d.name, "'s is ", d.controller.kind, " over ", actuators));
+  const auto& family = robots::WaveFamily();
   const int np = static_cast<int>(periods.size());
   std::vector<SweepPoint> out(family.size() * periods.size());
   ParallelFor(static_cast<int>(out.size()), threads, [&](int i) {
-    const caterpillar::WaveShape& shape = family[i / np];
+    const robots::WaveShape& shape = family[i / np];
     out[i].period_s = periods[i % np];
     out[i].shape = shape.Name();
-    auto gait = caterpillar::Gait::FromGenes(caterpillar::WaveGenes(out[i].period_s, shape));
-    if (!gait.ok()) {
-      out[i].eval.reason = std::string(gait.status().message());
-      return;
-    }
-    out[i].eval = caterpillar::EvaluateGait(params, *gait, options);
+    out[i].eval = generic::EvaluateGait(d, values, robots::WaveGenes(actuators, out[i].period_s, shape),
+                                        options);
   });
   return out;
 }
@@ -143,7 +146,7 @@ std::string SweepJson(const std::vector<SweepPoint>& points) {
                                     p.shape.empty() ? "{" : "", p.scale, p.period_s,
                                     p.eval.valid ? "true" : "false",
                                     p.eval.valid ? p.eval.distance_per_cycle_m : 0.0,
-                                    p.eval.airborne_fraction, p.eval.actuator_energy_j,
+                                    p.eval.airborne_fraction, p.eval.piston_work_j,
                                     JsonEscape(p.eval.reason)));
   }
   return out + "]";
@@ -152,84 +155,6 @@ std::string SweepJson(const std::vector<SweepPoint>& points) {
 absl::StatusOr<std::vector<std::pair<std::string, double>>> ParseOverrides(
     const std::string& text) {
   return objectives::ParseOverrides(text);
-}
-
-absl::StatusOr<std::string> CalibrationEval(
-    const caterpillar::CaterpillarParams& params,
-    const std::vector<std::pair<std::string, double>>& overrides, const std::string& recordings,
-    const std::map<std::string, std::string>& options,
-    const std::map<std::string, double>& objective_params, const std::string& out_dir,
-    double rate) {
-  double time_offset = 0;
-  for (const auto& [name, value] : overrides)
-    if (name == "nuisance.time_offset_s") time_offset = value;
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec)
-      return absl::InvalidArgumentError(
-          absl::StrCat("--out-dir ", out_dir, ": cannot create the directory: ", ec.message()));
-  }
-  caterpillar::CalibrationObjective objective(params);
-  std::string json = "{\"recordings\": [";
-  int i = 0;
-  for (const auto& part : absl::StrSplit(recordings, ',', absl::SkipEmpty())) {
-    const std::string path(part);
-    std::ifstream csv_in(path, std::ios::binary), side_in(path + ".json", std::ios::binary);
-    if (!csv_in || !side_in)
-      return absl::NotFoundError(absl::StrCat("cannot read ", path, " and ", path, ".json"));
-    std::stringstream csv, side;
-    csv << csv_in.rdbuf();
-    side << side_in.rdbuf();
-    auto rec = recording::ParseRecording(csv.str(), side.str(), path, path + ".json");
-    if (!rec.ok()) return rec.status();
-    objectives::EvalInput in;
-    for (const auto& [name, value] : overrides) {
-      in.gene_names.push_back(name);
-      in.genes.push_back(value);
-      in.lo.push_back(-1e300);
-      in.hi.push_back(1e300);
-    }
-    in.options = options;
-    in.params = objective_params;
-    in.recordings.push_back(std::make_shared<const recording::Recording>(*rec));
-    sim::InitThread();
-    const auto r = objectives::EvaluateSafely(objective, in);
-    absl::StrAppend(&json, i ? ",\n " : "\n ", "{\"file\": \"", JsonEscape(path),
-                    "\", \"time_offset_s\": ", absl::StrFormat("%.9g", time_offset),
-                    ", \"valid\": ", r.valid ? "true" : "false", ", \"reason\": \"",
-                    JsonEscape(r.reason), "\", \"metrics\": {");
-    int k = 0;
-    for (const auto& [name, value] : r.metrics)
-      absl::StrAppend(&json, k++ ? ", " : "", "\"", name, "\": ", absl::StrFormat("%.9g", value));
-    absl::StrAppend(&json, "}");
-    if (!out_dir.empty() && r.valid) {
-      // The recording's gait with the same overrides, markers over the recording's span.
-      caterpillar::CaterpillarParams p = params;
-      for (const auto& [name, value] : overrides) {
-        if (name.rfind("nuisance.", 0) == 0) continue;
-        if (auto s = caterpillar::SetParam(p, name, value); !s.ok()) return s;
-      }
-      auto gait = caterpillar::Gait::FromGenes(rec->meta.genes);
-      if (!gait.ok()) return gait.status();
-      caterpillar::EvalOptions o;
-      o.settle_cycles = 0;
-      o.measured_cycles =
-          static_cast<int>(std::ceil((rec->t.back() + 0.5) / gait->period_s())) + 1;
-      o.marker_rate_hz = rate;
-      const auto e = caterpillar::EvaluateGait(p, *gait, o);
-      if (e.valid) {
-        const std::string sim_path = absl::StrCat(out_dir, "/sim-", i, ".csv");
-        if (auto s = WriteRecording(e.markers, sim_path, "", rec->meta.genes, "calibration-eval");
-            !s.ok())
-          return s;
-        absl::StrAppend(&json, ", \"sim\": \"", JsonEscape(sim_path), "\"");
-      }
-    }
-    absl::StrAppend(&json, "}");
-    ++i;
-  }
-  return json + "\n]}";
 }
 
 absl::StatusOr<std::map<std::string, std::string>> ParseOptions(const std::string& text) {

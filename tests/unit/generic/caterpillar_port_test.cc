@@ -7,6 +7,7 @@
 
 #include "gtest/gtest.h"
 #include "robots/registry.h"
+#include "workers/models/caterpillar/calibration_objective.h"
 #include "workers/models/caterpillar/caterpillar_eval.h"
 #include "workers/models/caterpillar/caterpillar_params.h"
 #include "workers/models/caterpillar/caterpillar_sim.h"
@@ -90,6 +91,27 @@ TEST(CaterpillarPort, GaitFitnessIsBitIdenticalToTheDedicatedModel) {
     valid += want.valid;
   }
   EXPECT_GT(valid, 20);
+}
+
+// A recording simulated by the generic build (gaitforge-sim trajectory) holds the markers
+// the dedicated model sampled: the measured cycles after settling, times from rest.
+TEST(CaterpillarPort, SimulatedRecordingsMatchTheDedicatedModel) {
+  const auto& d = Caterpillar();
+  const ParamValues values(d);
+  const std::vector<double> genes = caterpillar::WaveGenes(0.354, caterpillar::WaveFamily()[2]);
+  caterpillar::EvalOptions o;
+  o.settle_cycles = 2;
+  o.measured_cycles = 3;
+  o.marker_rate_hz = 100;
+  const auto want = caterpillar::EvaluateGait(caterpillar::DefaultCaterpillarParams(),
+                                              *caterpillar::Gait::FromGenes(genes), o);
+  const auto got = SimulateChannels(d, values, genes, 3, 100, 0, {}, 2);
+  ASSERT_TRUE(want.valid && got.valid) << got.reason;
+  ASSERT_EQ(got.trajectory.t, want.markers.t);
+  const auto dedicated = caterpillar::MarkerChannels(want.markers);
+  ASSERT_EQ(got.trajectory.channels, dedicated.channels);
+  EXPECT_EQ(got.trajectory.columns, dedicated.columns);
+  EXPECT_NEAR(got.trajectory.t.front(), 2 * 0.354, 1e-3);
 }
 
 // Each candidate effect the builder attaches, set on both builds: the same fitness (the

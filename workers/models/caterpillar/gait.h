@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "robots/onoff_waves.h"
 
 namespace gaitforge::caterpillar {
 
@@ -33,21 +34,13 @@ class Gait {
   double period_s_ = 1;
 };
 
-// A travelling wave of on-bars along the body, the paper's baseline (Fig. 14, "intuitive
-// sine wave pattern"; the paper leaves its form open). Pairs fire a sixth of a period apart.
-struct WaveShape {
-  bool front_first = false;  // the wave runs from the head (pair 3) to the tail, else forward
-  bool interleaved = false;  // T1 B1 T2 B2 T3 B3 in turn; else the top row, then the bottom
-                             // row half a period later
-  double duty = 0.5;         // ON fraction of the period, each actuator
-  std::string Name() const;  // e.g. "tail-first rows 50%"
-};
-// The eight intuitive waves (both directions, rows or interleaved, duty 1/2 or 1/3). Their
-// travel differs by more than the waves' period dependence: at T = 0.8 s from -0.8 to +1.2
-// cm per cycle in caterpillar.yaml's model, so the baseline is the best of them.
-const std::vector<WaveShape>& WaveFamily();
-std::vector<double> WaveGenes(double period_s, const WaveShape& shape);
+// Paper 000's travelling waves (robots/onoff_waves.h) over the six actuators.
+using robots::WaveFamily;
+using robots::WaveShape;
+inline std::vector<double> WaveGenes(double period_s, const WaveShape& shape) {
+  return robots::WaveGenes(kActuators, period_s, shape);
+}
 // The tail-first, row-by-row, half-duty wave (WaveFamily()[0]): a plain test gait.
-std::vector<double> TravellingWaveGenes(double period_s);
+inline std::vector<double> TravellingWaveGenes(double period_s) { return WaveGenes(period_s, {}); }
 
 }  // namespace gaitforge::caterpillar

@@ -139,20 +139,22 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
 
 calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& v,
                                      const std::vector<double>& genes, int cycles, double rate_hz,
-                                     double timestep_s, const WorldBuilder& engine) {
+                                     double timestep_s, const WorldBuilder& engine,
+                                     int settle_cycles) {
   calibration::SimRun run;
   const robots::ControllerKind* kind = robots::FindControllerKind(d.controller.kind);
   const double period = genes.size() == d.controller.genes.size() ? kind->period_s(genes) : 1;
   calibration::Trajectory& tr = run.trajectory;
   tr.channels = d.Channels();
   tr.columns.resize(tr.channels.size());
-  int64_t every = 1;
+  int64_t every = 1, from = 0;
   const auto steps = [&](const RobotWorld& w) {
     every = std::max<int64_t>(1, std::llround(1.0 / (rate_hz * w.timestep())));
-    return static_cast<int64_t>(std::llround(cycles * period / w.timestep()));
+    from = std::llround(settle_cycles * period / w.timestep());
+    return static_cast<int64_t>(std::llround((settle_cycles + cycles) * period / w.timestep()));
   };
   const auto sample = [&](const RobotWorld& w, int64_t i) {
-    if (i % every != 0) return;
+    if (i < from || (i - from) % every != 0) return;
     tr.t.push_back(w.time());
     for (size_t c = 0; c < tr.channels.size(); ++c) tr.columns[c].push_back(*w.Channel(tr.channels[c]));
   };

@@ -64,12 +64,15 @@ class DescriptorOrder {
   std::vector<size_t> slot_;  // per controller actuator: its descriptor index
 };
 
-// The robot's channels (its sensors: robots::RobotDescriptor::Channels) sampled at rate_hz,
-// from t = 0, over `cycles` gait periods from rest; rate_hz must give a whole number of
-// timesteps (timestep_s <= 0: the robot's simulation.timestep_s) per sample.
+// The robot's channels (its sensors: robots::RobotDescriptor::Channels) sampled at rate_hz
+// over `cycles` gait periods after `settle_cycles` from rest: from the step that starts the
+// first measured cycle (t = 0 without settling), times counted from rest; rate_hz must give
+// a whole number of timesteps (timestep_s <= 0: the robot's simulation.timestep_s) per
+// sample.
 calibration::SimRun SimulateChannels(const robots::RobotDescriptor& d, const ParamValues& values,
                                      const std::vector<double>& genes, int cycles, double rate_hz,
-                                     double timestep_s = 0, const WorldBuilder& engine = {});
+                                     double timestep_s = 0, const WorldBuilder& engine = {},
+                                     int settle_cycles = 0);
 
 // Never throws for a diverging model: that is valid = false with the reason.
 GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& values,
