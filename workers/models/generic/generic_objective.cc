@@ -26,6 +26,26 @@ absl::Status ApplySet(const std::string& text, ParamValues& values) {
   return absl::OkStatus();
 }
 
+// The params the coordinator validated against the catalog, checked again for what would
+// make the evaluation meaningless (a worker may meet a job no coordinator checked): the
+// names robot.distance knows, whole cycles, a positive step, a phase within a cycle.
+std::string CheckParams(const objectives::EvalInput& in) {
+  static const char* kKnown[] = {"cycles", "settle_cycles", "timestep_ms", "start_phase",
+                                 "duration_s"};
+  for (const auto& [name, value] : in.params)
+    if (std::find(std::begin(kKnown), std::end(kKnown), name) == std::end(kKnown))
+      return "unknown param " + name;
+  double v;
+  std::string error;
+  if (!objectives::ParamInRange(in, "cycles", 1, 1e6, 1, true, v, error) ||
+      !objectives::ParamInRange(in, "settle_cycles", 0, 1e6, 0, true, v, error) ||
+      !objectives::ParamInRange(in, "timestep_ms", 1e-6, 1e3, 1, false, v, error) ||
+      !objectives::ParamInRange(in, "start_phase", 0, 1, 0, false, v, error) ||
+      !objectives::ParamInRange(in, "duration_s", 0, 1e6, 0, false, v, error))
+    return error;
+  return "";
+}
+
 }  // namespace
 
 objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalInput& in) const {
@@ -36,6 +56,7 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     r.reason = "robot: " + std::string(robot.status().message());
     return r;
   }
+  if (r.reason = CheckParams(in); !r.reason.empty()) return r;
   ParamValues values(**robot);
   if (auto it = in.options.find("set"); it != in.options.end()) {
     if (auto s = ApplySet(it->second, values); !s.ok()) {
