@@ -206,6 +206,9 @@ struct RobotDescriptor {
   // Report figures its model's tools can draw for a gait study (kFigureKinds), beyond the
   // fitness curve every study gets; empty: none.
   std::vector<std::string> figures;
+  // Its own names for robot.distance and robot.calibration bound to it (`objectives:`), the
+  // names its paper's studies use (the caterpillar: caterpillar.distance); empty: none.
+  std::string distance_objective, calibration_objective;
   std::string source;   // the file it was read from, for messages
   std::vector<Parameter> parameters;
   std::vector<Scale> scales;

@@ -222,6 +222,28 @@ Status ParseSensors(const YamlFields& f, const YAML::Node& node, RobotDescriptor
   return absl::OkStatus();
 }
 
+// `objectives: {distance: NAME, calibration: NAME}`: the robot's own names for the
+// robot-agnostic objectives bound to it; each a dotted name outside robot.* and analytic.*.
+Status ParseObjectiveNames(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
+  const YAML::Node node = root["objectives"];
+  if (!node) return absl::OkStatus();
+  if (Status s = f.CheckMap(node, "objectives", {"distance", "calibration"}); !s.ok()) return s;
+  for (auto [key, out] : {std::pair{"distance", &d.distance_objective},
+                          std::pair{"calibration", &d.calibration_objective}}) {
+    if (!node[key]) continue;
+    auto name = f.String(node[key], JoinPath("objectives", key));
+    if (!name.ok()) return name.status();
+    const size_t dot = name->find('.');
+    if (dot == std::string::npos || dot == 0 || dot + 1 == name->size() ||
+        name->rfind("robot.", 0) == 0 || name->rfind("analytic.", 0) == 0)
+      return f.Error(node[key], JoinPath("objectives", key),
+                     "must be a dotted name such as " + d.name + "." + key +
+                         ", outside robot.* and analytic.*");
+    *out = *name;
+  }
+  return absl::OkStatus();
+}
+
 Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
   auto format = f.String(root["format"], "format");
   if (!format.ok()) return format.status();
@@ -238,6 +260,7 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
     if (!v.ok()) return v.status();
     *out = *v;
   }
+  if (Status s = ParseObjectiveNames(f, root, d); !s.ok()) return s;
   if (!root["figures"]) return absl::OkStatus();
   auto figures = f.StringList(root["figures"], "figures");
   if (!figures.ok()) return figures.status();
@@ -252,7 +275,7 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
 
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
-  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "parameters",
+  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "objectives", "parameters",
                                        "scales", "suspects", "relations", "controller", "sensors",
                                        "bodies", "joints", "actuators", "ground", "plane",
                                        "self_contact"});

@@ -32,8 +32,9 @@ std::string GenesArg(const v1::Individual& ind) {
 
 
 // The study's robot as a gaitforge-sim --robot: the descriptor the study carries (written
-// to a file named by its content), its built-in robot, or the robot its objective is named
-// for (caterpillar.distance: the caterpillar); "" when none.
+// to a file named by its content), its built-in robot, or the built-in robot its objective
+// is bound to (a robot's own objective name: the catalog's gait_robot or calibrates); ""
+// when none.
 std::string StudyRobot(const v1::ObjectiveSpec& objective) {
   if (!objective.robot_descriptor().empty()) {
     const std::string path =

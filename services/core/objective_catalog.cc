@@ -28,9 +28,9 @@ std::vector<GeneRange> AnalyticSpace() {
 
 // A catalog parameter whose range and default are the robot's parameter `name`, times
 // `factor` (1000 for a timestep in ms).
-ParamInfo FromRobot(const char* param, const char* name, std::string meaning,
+ParamInfo FromRobot(const char* robot, const char* param, const char* name, std::string meaning,
                     double factor = 1) {
-  const robots::Parameter& p = *robots::Robot("caterpillar").FindParameter(name);
+  const robots::Parameter& p = *robots::Robot(robot).FindParameter(name);
   return {param, p.lo * factor, p.hi * factor, p.value * factor, std::move(meaning), p.integer};
 }
 
@@ -70,10 +70,8 @@ std::vector<std::pair<std::string, std::vector<std::string>>> ComparisonOptions(
           {"weights", {}}};
 }
 
-}  // namespace
-
-const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
-  static const std::vector<ObjectiveInfo> catalog = {
+std::vector<ObjectiveInfo> AnalyticCatalog() {
+  return {
       {"analytic.sphere",
        "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
        AnalyticParams(), AnalyticSpace(), 0, {}, false},
@@ -86,44 +84,11 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
       {"analytic.rastrigin",
        "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
        AnalyticParams(), AnalyticSpace(), 0, {}, false},
-      {"caterpillar.distance",
-       "forward travel (m) per gait cycle of the lumped ODE caterpillar "
-       "(../shared/robots/caterpillar.md), measured after settle_cycles from rest",
-       {FromRobot("cycles", "simulation.measured_cycles",
-                  "measured gait cycles; fitness is the mean travel per cycle (m)"),
-        FromRobot("settle_cycles", "simulation.settle_cycles",
-                  "gait cycles from rest before measuring"),
-        FromRobot("timestep_ms", "simulation.timestep_s",
-                  "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
-        StartPhase()},
-       GaitSpaceOf("caterpillar"), static_cast<int>(GaitSpaceOf("caterpillar").size()),
-       // set: model parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
-       {{"set", {}}},
-       false,
-       "",
-       false,
-       {},
-       false,
-       "caterpillar",
-       true},
-      {"caterpillar.calibration",
-       "calibration of the lumped ODE caterpillar against recordings (paper 003): fitness = "
-       "-(mean error over the recordings, weighted by the weights option when given) between "
-       "recorded and simulated markers (m; relative for error = stats); genes are model "
-       "parameters named in bounds, plus nuisance.time_offset_s",
-       ComparisonParams(
-           FromRobot("settle_cycles", "simulation.settle_cycles",
-                     "gait cycles from rest (simulated time) left out of the comparison"),
-           FromRobot("timestep_ms", "simulation.timestep_s",
-                     "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)),
-       {},
-       0,
-       ComparisonOptions(),
-       true,
-       "caterpillar",
-       true,
-       // recording time t corresponds to simulated time t + offset (s)
-       {"nuisance.time_offset_s"}},
+  };
+}
+
+std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
+  return {
       {"robot.distance",
        "forward travel (m) per gait cycle of any robot whose descriptor has model: generic "
        "(objective.robot; docs/robots.md), measured after settle_cycles from rest, or in "
@@ -174,8 +139,81 @@ const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
        {"nuisance.time_offset_s"},
        true},
   };
+}
+
+
+// A built-in robot's own name for robot.distance bound to it (its descriptor's
+// `objectives.distance`): its gait space, its simulation defaults.
+ObjectiveInfo OwnDistance(const robots::RobotDescriptor& r) {
+  const char* robot = r.name.c_str();
+  return {r.distance_objective,
+          absl::StrCat("robot.distance of the built-in robot ", r.name, " (robots/", r.name,
+                       "/robot.yaml): forward travel (m) per gait cycle, measured after "
+                       "settle_cycles from rest"),
+          {FromRobot(robot, "cycles", "simulation.measured_cycles",
+                     "measured gait cycles; fitness is the mean travel per cycle (m)"),
+           FromRobot(robot, "settle_cycles", "simulation.settle_cycles",
+                     "gait cycles from rest before measuring"),
+           FromRobot(robot, "timestep_ms", "simulation.timestep_s",
+                     "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000),
+           StartPhase()},
+          GeneSpaceOf(r),
+          static_cast<int>(r.controller.genes.size()),
+          // set: parameter overrides NAME=VALUE,... (e.g. the gap finder's corrected model).
+          {{"set", {}}},
+          false,
+          "",
+          false,
+          {},
+          false,
+          r.name,
+          true};
+}
+
+// A built-in robot's own name for robot.calibration bound to it (`objectives.calibration`).
+ObjectiveInfo OwnCalibration(const robots::RobotDescriptor& r) {
+  const char* robot = r.name.c_str();
+  return {r.calibration_objective,
+          absl::StrCat("robot.calibration of the built-in robot ", r.name,
+                       " against recordings: fitness = -(mean error over the recordings, "
+                       "weighted by the weights option when given) between recorded and "
+                       "simulated channels (m; relative for error = stats); genes are its "
+                       "parameters named in bounds, plus nuisance.time_offset_s"),
+          ComparisonParams(
+              FromRobot(robot, "settle_cycles", "simulation.settle_cycles",
+                        "gait cycles from rest (simulated time) left out of the comparison"),
+              FromRobot(robot, "timestep_ms", "simulation.timestep_s",
+                        "ODE timestep in ms (default: the robot's simulation.timestep_s)", 1000)),
+          {},
+          0,
+          ComparisonOptions(),
+          true,
+          r.name,
+          true,
+          // recording time t corresponds to simulated time t + offset (s)
+          {"nuisance.time_offset_s"}};
+}
+
+// The analytic family, then the built-in robots' own objective names, then the
+// robot-agnostic objectives.
+std::vector<ObjectiveInfo> BuildCatalog() {
+  std::vector<ObjectiveInfo> catalog = AnalyticCatalog();
+  for (const std::string& name : robots::RobotNames()) {
+    const robots::RobotDescriptor& r = robots::Robot(name);
+    if (!r.distance_objective.empty()) catalog.push_back(OwnDistance(r));
+    if (!r.calibration_objective.empty()) catalog.push_back(OwnCalibration(r));
+  }
+  for (ObjectiveInfo& o : RobotAgnosticCatalog()) catalog.push_back(std::move(o));
   return catalog;
 }
+
+}  // namespace
+
+const std::vector<ObjectiveInfo>& ObjectiveCatalog() {
+  static const std::vector<ObjectiveInfo> catalog = BuildCatalog();
+  return catalog;
+}
+
 
 absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOfObjective(
     const ObjectiveInfo& info, const std::string& robot, const std::string& descriptor) {

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "robots/registry.h"
 #include "workers/models/generic/generic_calibration.h"
 #include "workers/models/generic/generic_objective.h"
 
@@ -11,11 +12,16 @@ absl::StatusOr<objectives::ObjectiveRegistry> WorkerRegistry() {
   objectives::ObjectiveRegistry registry = objectives::DefaultRegistry();
   try {
     generic::RegisterGeneric(registry);
-    // The caterpillar paper's objective names (stored studies and examples use them).
-    generic::RegisterRobotObjective(registry, "caterpillar.distance", generic::kRobotDistanceName,
-                                    "caterpillar");
-    generic::RegisterRobotObjective(registry, "caterpillar.calibration",
-                                    generic::kRobotCalibrationName, "caterpillar");
+    // Built-in robots' own names for the robot objectives bound to them (their descriptors'
+    // `objectives:`; stored studies and the papers' examples use them).
+    for (const std::string& name : robots::RobotNames()) {
+      const robots::RobotDescriptor& r = robots::Robot(name);
+      if (!r.distance_objective.empty())
+        generic::RegisterRobotObjective(registry, r.distance_objective, generic::kRobotDistanceName, name);
+      if (!r.calibration_objective.empty())
+        generic::RegisterRobotObjective(registry, r.calibration_objective,
+                                        generic::kRobotCalibrationName, name);
+    }
   } catch (const std::exception& e) {
     return absl::FailedPreconditionError(e.what());
   }

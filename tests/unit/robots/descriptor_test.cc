@@ -350,6 +350,9 @@ TEST(Structure, SpringLinkAndPistonMistakesAreNamed) {
        "actuators[0].bodies[1]: no body named 'lump9'"},
       {"stop_erp: actuators.stop_erp,", "stop_erp: stop.erp,", "actuators[0].stop_erp: 'stop.erp' is not a parameter"},
       {"self_contact: true", "self_contact: maybe", "self_contact"},
+      {"distance: caterpillar.distance", "distance: robot.distance",
+       "objectives.distance: must be a dotted name such as caterpillar.distance, outside robot.*"},
+      {"distance: caterpillar.distance", "walk: caterpillar.walk", "objectives.walk: unknown field"},
   };
   for (const Case& c : cases) EXPECT_THAT(CaterpillarError(c.from, c.to), HasSubstr(c.says)) << c.from;
 }

@@ -22,9 +22,9 @@ class RobotDistanceObjective : public objectives::Objective {
 
 void RegisterGeneric(objectives::ObjectiveRegistry& registry);
 
-// A built-in robot's own name for a robot-agnostic objective (the paper study's
-// "caterpillar.distance" is robot.distance of robot caterpillar): `name` evaluates as
-// `objective` (robot.distance or robot.calibration) with the job's robot set to `robot`.
+// A built-in robot's own name for a robot-agnostic objective (its descriptor's
+// `objectives:`): `name` evaluates as `objective` (robot.distance or robot.calibration)
+// with the job's robot set to `robot`.
 void RegisterRobotObjective(objectives::ObjectiveRegistry& registry, const std::string& name,
                             const std::string& objective, const std::string& robot);
 
