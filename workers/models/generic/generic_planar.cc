@@ -108,14 +108,31 @@ double GenericWorld::Damping(double zeta, double k, double a, double b) {
   return 2 * zeta * std::sqrt(a == b ? k * a / 2 : k * (a * b / (a + b)));
 }
 
-double GenericWorld::LinkBend(const Link& l) {
+double GenericWorld::Bend(const Link& l) {
   return std::remainder(BodyPitch(l.b2) - BodyPitch(l.b1), 2 * M_PI);
+}
+
+double GenericWorld::LinkBend(int joint) const {
+  const int k = joint_link_.at(joint);
+  return k < 0 ? 0.0 : Bend(links_[k]);
+}
+
+// The axial row holds a distance between its two anchors: the extension is the distance
+// now less the one at rest.
+double GenericWorld::LinkExtension(int joint) const {
+  const int k = joint_link_.at(joint);
+  if (k < 0) return 0.0;
+  dVector3 a1, a2;
+  dJointGetDBallAnchor1(links_[k].axial, a1);
+  dJointGetDBallAnchor2(links_[k].axial, a2);
+  const double dx = a2[0] - a1[0], dy = a2[1] - a1[1], dz = a2[2] - a1[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz) - dJointGetDBallDistance(links_[k].axial);
 }
 
 // ODE's limit row is J = [axis, -axis] on (body 1, body 2) angular velocity, so the angle it
 // expects grows with body 1's rotation relative to body 2: minus the bend.
 void GenericWorld::UpdateLinkAngles() {
-  for (const Link& l : links_) dJointSetAMotorAngle(l.bend, 0, -LinkBend(l));
+  for (const Link& l : links_) dJointSetAMotorAngle(l.bend, 0, -Bend(l));
 }
 
 absl::Status GenericWorld::BuildPiston(const robots::Actuator& a, int index,

@@ -170,23 +170,23 @@ sim::SimOutcome GenericWorld::CheckState() {
     const std::string& name = body_names_[i];
     for (int k = 0; k < 3; ++k) {
       if (!std::isfinite(p[k]) || !std::isfinite(v[k]) || !std::isfinite(w[k]))
-        return sim::SimOutcome::Failed(absl::StrCat("NaN in body ", name, " at t = ", time(), " s"));
+        return sim::SimOutcome::Failed(absl::StrCat("diverged: NaN in body ", name, " at t = ", time(), " s"));
     }
     const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (speed > max_speed_)
-      return sim::SimOutcome::Failed(absl::StrCat("body ", name, " moves at ", speed,
+      return sim::SimOutcome::Failed(absl::StrCat("diverged: body ", name, " moves at ", speed,
                                                   " m/s (> simulation.max_speed_m_per_s) at t = ",
                                                   time(), " s"));
     // Spinning so fast that the ends of its length along x would pass the speed limit.
     const double spin = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     if (spin > 2 * max_speed_ / sizes_[i][0])
       return sim::SimOutcome::Failed(absl::StrCat(
-          "body ", name, " spins at ", spin, " rad/s (> 2 simulation.max_speed_m_per_s / its x "
+          "diverged: body ", name, " spins at ", spin, " rad/s (> 2 simulation.max_speed_m_per_s / its x "
           "length) at t = ", time(), " s"));
     const double dx = p[0] - start_[i][0], dy = p[1] - start_[i][1], dz = p[2] - start_[i][2];
     if (std::sqrt(dx * dx + dy * dy + dz * dz) > max_excursion_)
       return sim::SimOutcome::Failed(absl::StrCat(
-          "body ", name, " is farther than simulation.max_excursion_m from its start at t = ",
+          "diverged: body ", name, " is farther than simulation.max_excursion_m from its start at t = ",
           time(), " s"));
   }
   return CheckPistons();
@@ -198,7 +198,9 @@ sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
     ApplyPistons(commands);
     ApplyEffects();
     ApplyServos(commands);
-    if (d_.plane.empty()) {
+    if (!d_.ground) {
+      ground_contacts_ = 0;
+    } else if (d_.plane.empty()) {
       AddGroundContacts();
     } else {
       AddPlanarGroundContacts();
@@ -288,7 +290,7 @@ std::array<double, 3> GenericWorld::BodyCentre(int body) const {
 }
 
 double GenericWorld::JointAngle(int joint, int axis) const {
-  if (joint_link_[joint] >= 0) return LinkBend(links_[joint_link_[joint]]);
+  if (joint_link_[joint] >= 0) return Bend(links_[joint_link_[joint]]);
   const dJointID j = joints_[joint];
   switch (dJointGetType(j)) {
     case dJointTypeHinge: return dJointGetHingeAngle(j);

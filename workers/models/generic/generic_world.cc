@@ -108,8 +108,7 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
     if (d.FindParameter(name) == nullptr)
       return absl::InvalidArgumentError(
           absl::StrCat(d.source, ": a generic robot needs the parameter ", name));
-  if (!d.ground) return absl::InvalidArgumentError(d.source + ": a generic robot needs ground");
-  if (!d.plane.empty() && d.ground->friction_load == "body")
+  if (!d.plane.empty() && d.ground && d.ground->friction_load == "body")
     return absl::InvalidArgumentError(
         d.source + ": ground.friction_load: body is not offered for a planar robot");
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
@@ -129,9 +128,12 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   if (absl::Status s = w->BuildJoints(v); !s.ok()) return s;
   if (absl::Status s = w->BuildActuators(v); !s.ok()) return s;
   w->BuildMarkers(v);
-  w->friction_ = Eval(d.ground->friction, v);
-  w->contact_erp_ = Eval(d.ground->erp, v);
-  w->contact_cfm_ = Eval(d.ground->cfm, v);
+  // Without ground (an arm on a mount, a test rig in free space) nothing touches z = 0.
+  if (d.ground) {
+    w->friction_ = Eval(d.ground->friction, v);
+    w->contact_erp_ = Eval(d.ground->erp, v);
+    w->contact_cfm_ = Eval(d.ground->cfm, v);
+  }
   for (size_t i = 0; i < d.bodies.size(); ++i) {
     const robots::Body& b = d.bodies[i];
     const double mu = b.friction ? Eval(*b.friction, v) : w->friction_;
@@ -143,7 +145,7 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
     w->contact_depth_.insert(w->contact_depth_.end(), w->built_[i].parts, depth);
   }
   const size_t n = w->bodies_.size();
-  w->body_load_ = d.ground->friction_load == "body";
+  w->body_load_ = d.ground && d.ground->friction_load == "body";
   w->load_.assign(n, 0.0);
   w->contact_feedback_.resize(n * kMaxContacts);
   w->contact_count_.assign(n, 0);

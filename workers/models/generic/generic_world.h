@@ -91,7 +91,7 @@ class GenericWorld : public RobotWorld {
 
   double time() const override { return steps_ * h_; }
   double timestep() const override { return h_; }
-  int body_count() const { return static_cast<int>(bodies_.size()); }
+  int body_count() const { return static_cast<int>(d_.bodies.size()); }  // the descriptor's
   // The mean of the bodies' centres, mass-weighted (m, world frame).
   std::array<double, 3> CentreOfMass() const override;
   // A hinge's angle, or a universal joint's about its first (axis 1) or second axis (rad).
@@ -112,6 +112,16 @@ class GenericWorld : public RobotWorld {
   // max(0, torque * joint rate) * h (a servo braking a joint stores nothing).
   double servo_energy() const override { return servo_energy_; }
   double total_mass() const override;
+
+  // Inspection (tests, tools): the ODE bodies, rear half first where a body is split
+  // (effect.lump_compliance_per_mpa), and how many parts descriptor body `body` was built as.
+  int ode_body_count() const { return static_cast<int>(bodies_.size()); }
+  dBodyID ode_body(int i) const { return bodies_.at(i); }
+  int parts(int body) const { return built_.at(body).parts; }
+  // A spring link's (descriptor joint `joint`) axial extension beyond its rest length (m)
+  // and its bend (rad, body 2's pitch less body 1's) now; 0 for another joint.
+  double LinkExtension(int joint) const;
+  double LinkBend(int joint) const;
 
  private:
   GenericWorld(const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s);
@@ -176,7 +186,7 @@ class GenericWorld : public RobotWorld {
     double axial_erp = 0;  // the linear axial spring's ERP (h k / c)
   };
   void SoftenLinks();
-  static double LinkBend(const Link& l);
+  static double Bend(const Link& l);
   // A fraction zeta of critical damping, c = 2 zeta sqrt(k mu), for two bodies joined by a
   // spring, mu their reduced mass (or inertia) a b / (a + b); the exact half for equal bodies.
   static double Damping(double zeta, double k, double a, double b);

@@ -1,11 +1,10 @@
-// Calibration of the caterpillar model against recordings: the calibratable parameter names
-// (param_overrides.h), the error measures with hand-computed values (calibration_error.h), and
-// a round trip of "caterpillar.calibration" (calibration_objective.h) on a recording made in
-// memory from the model with known parameters, a constant offset on every x channel and a
-// time shift.
+// The caterpillar's calibration on the generic build: its calibratable parameters and
+// scales (ParamValues on its descriptor), and a round trip of robot.calibration on a
+// recording made in memory from the robot with known parameters, a constant offset on every
+// x channel and a time shift.
+#include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -13,230 +12,94 @@
 #include "absl/strings/str_format.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "robots/onoff_waves.h"
+#include "robots/registry.h"
 #include "services/recording/recording.h"
-#include "workers/objectives/calibration_error.h"
-#include "workers/models/caterpillar/calibration_objective.h"
-#include "workers/models/caterpillar/caterpillar_eval.h"
-#include "workers/models/caterpillar/caterpillar_params.h"
-#include "workers/models/caterpillar/gait.h"
-#include "workers/models/caterpillar/param_overrides.h"
+#include "workers/models/generic/generic_calibration.h"
+#include "workers/models/generic/generic_gait.h"
+#include "workers/objectives/recording_comparison.h"
 #include "workers/sim/ode_runtime.h"
 
-namespace gaitforge::caterpillar {
+namespace gaitforge::generic {
 namespace {
 
 using ::testing::HasSubstr;
-namespace cal = calibration;
 
-const CaterpillarParams& Defaults() { return DefaultCaterpillarParams(); }
+const robots::RobotDescriptor& Caterpillar() { return robots::Robot("caterpillar"); }
 
 // ---------------------------------------------------------------------------------------
-// Parameter overrides
+// Parameters and scales
 
-TEST(CalibrationParams, SetsAbsoluteFields) {
-  CaterpillarParams p = Defaults();
-  ASSERT_TRUE(SetParam(p, "actuators.force_n", 7.5).ok());
-  EXPECT_EQ(p.actuators.force_n, 7.5);
-  ASSERT_TRUE(SetParam(p, "lumps.mass_kg", 0.04).ok());
-  EXPECT_EQ(p.lumps.mass_kg, 0.04);
-  ASSERT_TRUE(SetParam(p, "ground.contact_cfm", 2e-5).ok());
-  EXPECT_EQ(p.ground.contact_cfm, 2e-5);
-  ASSERT_TRUE(p.ground.infinite_friction);
-  ASSERT_TRUE(SetParam(p, "ground.friction_coefficient", 0.6).ok());
-  EXPECT_EQ(p.ground.friction_coefficient, 0.6);
-  EXPECT_FALSE(p.ground.infinite_friction);
+TEST(CaterpillarCalibrationParams, SetsAbsoluteFields) {
+  ParamValues v(Caterpillar());
+  ASSERT_TRUE(v.Set("actuators.force_n", 7.5).ok());
+  EXPECT_EQ(v("actuators.force_n"), 7.5);
+  ASSERT_TRUE(v.Set("lumps.mass_kg", 0.04).ok());
+  EXPECT_EQ(v("lumps.mass_kg"), 0.04);
+  ASSERT_TRUE(v.Set("ground.contact_cfm", 2e-5).ok());
+  EXPECT_EQ(v("ground.contact_cfm"), 2e-5);
+  ASSERT_TRUE(std::isinf(v("ground.friction_coefficient")));
+  ASSERT_TRUE(v.Set("ground.friction_coefficient", 0.6).ok());
+  EXPECT_EQ(v("ground.friction_coefficient"), 0.6);
 }
 
-TEST(CalibrationParams, ScalesMultiplyGroups) {
-  const CaterpillarParams& d = Defaults();
-  CaterpillarParams p = d;
-  ASSERT_TRUE(SetParam(p, "scale.link_stiffness", 2.0).ok());
-  EXPECT_EQ(p.links.flexure.axial_n_per_m, 2 * d.links.flexure.axial_n_per_m);
-  EXPECT_EQ(p.links.flexure.bending_nm_per_rad, 2 * d.links.flexure.bending_nm_per_rad);
-  EXPECT_EQ(p.links.segment.axial_n_per_m, 2 * d.links.segment.axial_n_per_m);
-  EXPECT_EQ(p.links.segment.bending_nm_per_rad, 2 * d.links.segment.bending_nm_per_rad);
-  ASSERT_TRUE(SetParam(p, "scale.bending_stiffness", 0.5).ok());  // applied on top
-  EXPECT_EQ(p.links.flexure.bending_nm_per_rad, d.links.flexure.bending_nm_per_rad);
-  EXPECT_EQ(p.links.flexure.axial_n_per_m, 2 * d.links.flexure.axial_n_per_m);
-  ASSERT_TRUE(SetParam(p, "scale.axial_stiffness", 0.5).ok());
-  EXPECT_EQ(p.links.segment.axial_n_per_m, d.links.segment.axial_n_per_m);
-  ASSERT_TRUE(SetParam(p, "scale.mass", 1.5).ok());
-  EXPECT_DOUBLE_EQ(p.lumps.mass_kg, 1.5 * d.lumps.mass_kg);
+TEST(CaterpillarCalibrationParams, ScalesMultiplyGroups) {
+  const ParamValues d(Caterpillar());
+  ParamValues v(Caterpillar());
+  const std::string fa = "links.flexure.axial_stiffness_n_per_m",
+                    fb = "links.flexure.bending_stiffness_nm_per_rad",
+                    sa = "links.segment.axial_stiffness_n_per_m",
+                    sb = "links.segment.bending_stiffness_nm_per_rad";
+  ASSERT_TRUE(v.Set("scale.link_stiffness", 2.0).ok());
+  for (const auto& n : {fa, fb, sa, sb}) EXPECT_EQ(v(n), 2 * d(n)) << n;
+  ASSERT_TRUE(v.Set("scale.bending_stiffness", 0.5).ok());  // applied on top
+  EXPECT_EQ(v(fb), d(fb));
+  EXPECT_EQ(v(fa), 2 * d(fa));
+  ASSERT_TRUE(v.Set("scale.axial_stiffness", 0.5).ok());
+  EXPECT_EQ(v(sa), d(sa));
+  ASSERT_TRUE(v.Set("scale.mass", 1.5).ok());
+  EXPECT_DOUBLE_EQ(v("lumps.mass_kg"), 1.5 * d("lumps.mass_kg"));
 }
 
-TEST(CalibrationParams, RejectsOutOfRangeUnknownAndNuisance) {
-  CaterpillarParams p = Defaults();
-  absl::Status s = SetParam(p, "actuators.force_n", 120);
+TEST(CaterpillarCalibrationParams, RejectsOutOfRangeUnknownAndRelations) {
+  ParamValues v(Caterpillar());
+  absl::Status s = v.Set("actuators.force_n", 120);
   EXPECT_FALSE(s.ok());
-  EXPECT_THAT(std::string(s.message()),
-              HasSubstr("actuators.force_n = 120 N is outside [0, 100] N"));
-  EXPECT_FALSE(SetParam(p, "links.axial_damping_ratio", NAN).ok());
-  EXPECT_FALSE(SetParam(p, "scale.mass", 0).ok());
-  EXPECT_FALSE(SetParam(p, "scale.mass", -1).ok());
+  EXPECT_THAT(std::string(s.message()), HasSubstr("actuators.force_n = 120 N is outside [0, 100] N"));
+  EXPECT_FALSE(v.Set("links.axial_damping_ratio", NAN).ok());
+  EXPECT_FALSE(v.Set("scale.mass", 0).ok());
+  EXPECT_FALSE(v.Set("scale.mass", -1).ok());
   // 1040 N/m * 1e4 leaves [1, 1e6]; nothing changes.
-  s = SetParam(p, "scale.link_stiffness", 1e4);
+  s = v.Set("scale.link_stiffness", 1e4);
   EXPECT_FALSE(s.ok());
   EXPECT_THAT(std::string(s.message()), HasSubstr("links.flexure.axial_stiffness_n_per_m"));
-  EXPECT_EQ(p.links.flexure.axial_n_per_m, Defaults().links.flexure.axial_n_per_m);
+  EXPECT_EQ(v("links.flexure.axial_stiffness_n_per_m"), 1040);
   // The stroke stop below the rest length.
-  s = SetParam(p, "actuators.max_length_m", 0.04);
+  s = v.Set("actuators.max_length_m", 0.04);
   EXPECT_FALSE(s.ok());
   EXPECT_THAT(std::string(s.message()),
               HasSubstr("relation 'actuators.max_length_m > actuators.min_length_m' fails"));
-
-  s = SetParam(p, "actuators.forse_n", 1);
-  EXPECT_FALSE(s.ok());
+  EXPECT_EQ(v("actuators.max_length_m"), 0.062);
+  s = v.Set("actuators.forse_n", 1);
+  EXPECT_EQ(s.code(), absl::StatusCode::kNotFound);
   EXPECT_THAT(std::string(s.message()), HasSubstr("nearest: actuators.force_n"));
-  EXPECT_THAT(std::string(s.message()), HasSubstr("scale.link_stiffness"));
-  EXPECT_THAT(std::string(s.message()), HasSubstr("nuisance.time_offset_s"));
-  EXPECT_FALSE(SetParam(p, kTimeOffsetParam, 0.1).ok());
-  EXPECT_TRUE(IsNuisanceParam("nuisance.time_offset_s"));
 }
 
-TEST(CalibrationParams, EveryListedNameIsSettable) {
-  for (const std::string& name : CalibratableParamNames()) {
-    CaterpillarParams p = Defaults();
-    const double v = name.rfind("scale.", 0) == 0                        ? 1.1
+TEST(CaterpillarCalibrationParams, EveryCalibratableNameIsSettable) {
+  for (const std::string& name : Caterpillar().CalibratableNames()) {
+    ParamValues v(Caterpillar());
+    const double x = name.rfind("scale.", 0) == 0                        ? 1.1
                      : name == "actuators.max_length_m"                  ? 0.06
                      : name == "ground.contact_cfm"                      ? 1e-4
                      : name.rfind("effect.", 0) == 0                     ? 0.1
                      : name == "simulation.timestep_s"                   ? 5e-4
                      : name.find("axial_stiffness") != std::string::npos ? 500
                                                                          : 0.5;
-    EXPECT_TRUE(SetParam(p, name, v).ok()) << name;
+    const absl::Status s = v.Set(name, x);
+    EXPECT_TRUE(s.ok()) << name << ": " << s;
   }
 }
 
-// ---------------------------------------------------------------------------------------
-// Error measures (hand-computed)
-
-TEST(CalibrationError, MaeRmseMedianAndOffsets) {
-  const std::vector<double> a = {1, 2, 3}, b = {1, 1, 1};
-  EXPECT_DOUBLE_EQ(cal::Mae(a, b), 1.0);                  // (0 + 1 + 2) / 3
-  EXPECT_DOUBLE_EQ(cal::Rmse(a, b), std::sqrt(5.0 / 3));  // (0 + 1 + 4) / 3
-  EXPECT_DOUBLE_EQ(cal::Median({3, 1, 2}), 2.0);
-  EXPECT_DOUBLE_EQ(cal::Median({4, 1, 3, 2}), 2.5);
-  const std::vector<double> real = {1, 2, 6}, zero = {0, 0, 0};
-  EXPECT_DOUBLE_EQ(cal::ProfiledOffset(cal::Metric::kRmse, real, zero), 3.0);  // mean
-  EXPECT_DOUBLE_EQ(cal::ProfiledOffset(cal::Metric::kMae, real, zero), 2.0);   // median
-  // Pooled over channels: channel 0 is off by a constant (profiled away), channel 1 has
-  // residuals {1, -1} after its mean 0.
-  std::vector<double> offsets;
-  const double e = cal::PooledError(cal::Metric::kRmse, {{1, 2}, {1, -1}}, {{0, 1}, {0, 0}}, 0, 2,
-                                    0, true, &offsets);
-  EXPECT_DOUBLE_EQ(e, std::sqrt(2.0 / 4));  // (0 + 0 + 1 + 1) / 4
-  EXPECT_THAT(offsets, ::testing::ElementsAre(1.0, 0.0));
-  // Without profiling: residuals 1, 1, 1, -1.
-  EXPECT_DOUBLE_EQ(
-      cal::PooledError(cal::Metric::kMae, {{1, 2}, {1, -1}}, {{0, 1}, {0, 0}}, 0, 2, 0, false),
-      1.0);
-}
-
-TEST(CalibrationError, ShiftInvariantFindsTheShiftAndOffset) {
-  // real[2] = 1 pairs with sim[3] = 1: shift +1; sim also 5 higher (offset -5).
-  const cal::Signals real = {{0, 0, 1, 0, 0, 0}};
-  const cal::Signals sim = {{5, 5, 5, 6, 5, 5}};
-  const auto r = cal::ShiftInvariantError(cal::Metric::kMae, real, sim, 2, true);
-  EXPECT_EQ(r.shift, 1);
-  EXPECT_DOUBLE_EQ(r.error, 0.0);
-  ASSERT_EQ(r.offsets.size(), 1u);
-  EXPECT_DOUBLE_EQ(r.offsets[0], -5.0);
-  // Without profiling the constant 5 stays: MAE 5 at every shift; ties go to shift 0.
-  const auto r0 = cal::ShiftInvariantError(cal::Metric::kMae, real, {{0, 0, 0, 0, 0, 0}}, 2, false);
-  EXPECT_EQ(r0.shift, 0);
-  EXPECT_DOUBLE_EQ(r0.error, 1.0 / 6);
-  // The peak 2 samples later: found with max_shift 2 (the overlap at s = 2 is
-  // real[0..4] = sim[2..6]), not with max_shift 1.
-  const cal::Signals early = {{0, 1, 0, 0, 0, 0, 0}}, late = {{0, 0, 0, 1, 0, 0, 0}};
-  const auto r2 = cal::ShiftInvariantError(cal::Metric::kRmse, early, late, 2, false);
-  EXPECT_EQ(r2.shift, 2);
-  EXPECT_DOUBLE_EQ(r2.error, 0.0);
-  const auto r1 = cal::ShiftInvariantError(cal::Metric::kRmse, early, late, 1, false);
-  EXPECT_GT(r1.error, 0.0);
-  // The other way round: shift -2.
-  EXPECT_EQ(cal::ShiftInvariantError(cal::Metric::kRmse, late, early, 2, false).shift, -2);
-}
-
-TEST(CalibrationError, PaddedShiftComparesEverySample) {
-  // real[i] pairs with sim[i + 1 + s]; {1, 2, 3} sits at sim[0..2]: s = -1.
-  const auto r =
-      cal::PaddedShiftInvariantError(cal::Metric::kRmse, {{1, 2, 3}}, {{1, 2, 3, 9, 9}}, 1, false);
-  EXPECT_EQ(r.shift, -1);
-  EXPECT_DOUBLE_EQ(r.error, 0.0);
-  // With offsets: {2, 3, 4} at s = 0 is real - 1 ... plus 1: offset -1.
-  const auto p =
-      cal::PaddedShiftInvariantError(cal::Metric::kRmse, {{1, 2, 3}}, {{9, 2, 3, 4, 9}}, 1, true);
-  EXPECT_EQ(p.shift, 0);
-  EXPECT_DOUBLE_EQ(p.error, 0.0);
-  EXPECT_THAT(p.offsets, ::testing::ElementsAre(-1.0));
-  // Hand-computed, offsets profiled, sim {9, 2, 3, 9, 9}:
-  //   s = -1: {9, 2, 3}: residuals -8, 0, 0, mean -8/3 -> -16/3, 8/3, 8/3: RMSE sqrt(384/27)
-  //   s =  0: {2, 3, 9}: residuals -1, -1, -6, mean -8/3 -> 5/3, 5/3, -10/3: sqrt(150/27)
-  //   s = +1: {3, 9, 9}: residuals -2, -7, -6, mean -5 -> 3, -2, -1: sqrt(14/3), the best.
-  const auto q =
-      cal::PaddedShiftInvariantError(cal::Metric::kRmse, {{1, 2, 3}}, {{9, 2, 3, 9, 9}}, 1, true);
-  EXPECT_EQ(q.shift, 1);
-  EXPECT_NEAR(q.error, std::sqrt(14.0 / 3), 1e-12);
-  EXPECT_THAT(q.offsets, ::testing::ElementsAre(-5.0));
-  EXPECT_NEAR(cal::PooledError(cal::Metric::kRmse, {{1, 2, 3}}, {{9, 2, 3, 9, 9}}, 0, 3, 1, true),
-              std::sqrt(150.0 / 27), 1e-12);
-}
-
-std::pair<int64_t, int64_t> Cycles(int64_t begin, int64_t end) { return {begin, end}; }
-
-TEST(CalibrationError, InterpolationAndCycles) {
-  const std::vector<double> t = {0, 1, 2}, x = {0, 10, 0};
-  EXPECT_DOUBLE_EQ(cal::Interpolate(t, x, 0.5), 5.0);
-  EXPECT_DOUBLE_EQ(cal::Interpolate(t, x, 1.0), 10.0);
-  EXPECT_DOUBLE_EQ(cal::Interpolate(t, x, 1.25), 7.5);
-  EXPECT_DOUBLE_EQ(cal::Interpolate(t, x, -1), 0.0);
-  EXPECT_DOUBLE_EQ(cal::Interpolate(t, x, 3), 0.0);
-  EXPECT_EQ(cal::BinsPerPeriod(0.8, 0.01), 80);
-  EXPECT_EQ(cal::BinsPerPeriod(0.805, 0.01), 81);  // round(80.5)
-  EXPECT_EQ(cal::BinsPerPeriod(0.01, 0.01), 2);
-  // Period 1 in 10 bins: cycle k's last bin is at k + 0.9.
-  EXPECT_EQ(cal::WholeCycles(0, 1.95, 1.0, 10, 0), Cycles(0, 2));
-  EXPECT_EQ(cal::WholeCycles(0, 1.9, 1.0, 10, 0), Cycles(0, 2));
-  EXPECT_EQ(cal::WholeCycles(0, 1.85, 1.0, 10, 0), Cycles(0, 1));
-  EXPECT_EQ(cal::WholeCycles(0.05, 2.95, 1.0, 10, 0), Cycles(1, 3));
-  EXPECT_EQ(cal::WholeCycles(0.05, 2.95, 1.0, 10, 0.05), Cycles(0, 3));
-  const auto none = cal::WholeCycles(0.5, 1.2, 1.0, 10, 0);
-  EXPECT_EQ(none.first, none.second);
-}
-
-TEST(CalibrationError, PeriodAveragingKeepsShapeAndDrift) {
-  // x = i mod 4 + 10 * cycle, dt = 1, T = 4, 13 samples: 3 whole cycles (the 13th sample
-  // starts a 4th): average i + 10 * (0 + 1 + 2) / 3.
-  std::vector<double> x;
-  for (int i = 0; i < 13; ++i) x.push_back(i % 4 + 10 * (i / 4));
-  EXPECT_THAT(cal::PeriodAverageSampled(x, 1.0, 4.0), ::testing::ElementsAre(10, 11, 12, 13));
-  // Padding: the ramp x = t over cycle 1 with one bin either side: times 3 .. 8.
-  std::vector<double> t(12), ramp(12);
-  for (int i = 0; i < 12; ++i) t[i] = ramp[i] = i;
-  EXPECT_THAT(cal::PeriodAverage(t, ramp, 4.0, 4, 0.0, 1, 2, 1),
-              ::testing::ElementsAre(3, 4, 5, 6, 7, 8));
-  // Origin 0.5: times 0.5 + 4k + i, averaged over k = 0, 1: 2.5 + i.
-  EXPECT_THAT(cal::PeriodAverage(t, ramp, 4.0, 4, 0.5, 0, 2),
-              ::testing::ElementsAre(2.5, 3.5, 4.5, 5.5));
-  EXPECT_TRUE(cal::PeriodAverage(t, ramp, 4.0, 4, 0.0, 2, 2).empty());
-}
-
-TEST(CalibrationError, SlopeAndDistancePerCycle) {
-  const std::vector<double> t4 = {0, 1, 2, 3};
-  EXPECT_DOUBLE_EQ(cal::LeastSquaresSlope(t4, std::vector<double>{1, 3, 5, 7}), 2.0);
-  // mean t 1.5, mean x 1; sum dt dx = 1.5 + 0 + 0 + 1.5 = 3; sum dt^2 = 5.
-  EXPECT_DOUBLE_EQ(cal::LeastSquaresSlope(t4, std::vector<double>{0, 1, 1, 2}), 0.6);
-  EXPECT_THAT(cal::MeanSignal({{1, 2}, {3, 6}}), ::testing::ElementsAre(2, 4));
-  // 1 cm per cycle of 0.5 s plus a 3 mm oscillation at the gait period, over 20 cycles.
-  std::vector<double> t, x;
-  for (int i = 0; i < 1000; ++i) {
-    t.push_back(i * 0.01);
-    x.push_back(0.02 * t.back() + 0.003 * std::cos(2 * std::numbers::pi * t.back() / 0.5));
-  }
-  EXPECT_NEAR(cal::DistancePerCycle(t, x, 0.5), 0.01, 1e-5);
-}
-
-// ---------------------------------------------------------------------------------------
 // The objective: a round trip on a simulated recording
 
 constexpr double kPeriod = 0.8;
@@ -245,42 +108,36 @@ constexpr int kCycles = 12;        // recorded cycles after 2 settle cycles
 constexpr double kOffsetX = 0.02;  // added to every m*.x channel (m)
 constexpr int kShiftSamples = 3;   // the recording's clock runs 3 samples behind
 
-std::vector<double> Genes() { return TravellingWaveGenes(kPeriod); }
+std::vector<double> Wave(double period) { return robots::WaveGenes(6, period, {}); }
+std::vector<double> Genes() { return Wave(kPeriod); }
 
-// A recording of the model with `p`, made like gaitforge-sim trajectory: markers over the
+// A recording of the robot with `v`, made like gaitforge-sim trajectory: markers over the
 // measured cycles after 2 settle cycles, t absolute from rest; then x_offset added to every
 // x channel and t reduced by time_shift.
-std::shared_ptr<const recording::Recording> MakeRecording(const CaterpillarParams& p,
-                                                          double x_offset, double time_shift) {
+std::shared_ptr<const recording::Recording> MakeRecording(const ParamValues& v, double x_offset,
+                                                          double time_shift) {
   sim::InitThread();
-  EvalOptions o;
-  o.settle_cycles = 2;
-  o.measured_cycles = kCycles;
-  o.marker_rate_hz = 1 / kDt;
-  const GaitEvaluation e = EvaluateGait(p, *Gait::FromGenes(Genes()), o);
-  EXPECT_TRUE(e.valid) << e.reason;
+  const calibration::SimRun run = SimulateChannels(Caterpillar(), v, Genes(), kCycles, 1 / kDt, 0, {}, 2);
+  EXPECT_TRUE(run.valid) << run.reason;
   auto rec = std::make_shared<recording::Recording>();
   rec->meta.robot = "caterpillar";
   rec->meta.command_kind = "gait";
   rec->meta.genes = Genes();
   rec->meta.source = "simulation";
   rec->dt = kDt;
-  for (double t : e.markers.t) rec->t.push_back(t - time_shift);
-  for (int i = 0; i < 6; ++i) {
-    for (const char* axis : {"x", "y", "z"}) {
-      rec->channels.push_back("m" + std::to_string(i + 1) + "." + axis);
-      const auto& src = axis[0] == 'x'   ? e.markers.x[i]
-                        : axis[0] == 'y' ? e.markers.y[i]
-                                         : e.markers.z[i];
-      std::vector<double> col = src;
-      if (axis[0] == 'x') {
-        for (double& v : col) v += x_offset;
-      }
-      rec->columns.push_back(std::move(col));
-    }
+  for (double t : run.trajectory.t) rec->t.push_back(t - time_shift);
+  for (size_t c = 0; c < run.trajectory.channels.size(); ++c) {
+    const std::string& name = run.trajectory.channels[c];
+    std::vector<double> col = run.trajectory.columns[c];
+    if (name.size() > 2 && name.substr(name.size() - 2) == ".x")
+      for (double& x : col) x += x_offset;
+    rec->channels.push_back(name);
+    rec->columns.push_back(std::move(col));
   }
   return rec;
 }
+
+ParamValues Defaults() { return ParamValues(Caterpillar()); }
 
 // The recording with the injected offset and shift, made once.
 std::shared_ptr<const recording::Recording> TrueRecording() {
@@ -297,14 +154,15 @@ objectives::EvalInput Input(double force_n, double stiffness_scale, const std::s
   in.hi = {16, 4};
   in.options = {{"error", error}, {"metric", metric}};
   in.recordings = {TrueRecording()};
+  in.robot = "caterpillar";
   return in;
 }
 
 objectives::EvalResult Eval(const objectives::EvalInput& in) {
-  return CalibrationObjective(Defaults()).Evaluate(in);
+  return RobotCalibrationObjective().Evaluate(in);
 }
 
-TEST(CalibrationObjective, RecordingMovesAndTrueParametersMatchInShape) {
+TEST(CaterpillarCalibration, RecordingMovesAndTrueParametersMatchInShape) {
   const auto r = Eval(Input(8.8, 1.0, "shape"));
   ASSERT_TRUE(r.valid) << r.reason;
   EXPECT_LT(r.metrics.at("error"), 1e-9);
@@ -320,7 +178,7 @@ TEST(CalibrationObjective, RecordingMovesAndTrueParametersMatchInShape) {
   EXPECT_NEAR(r.metrics.at("distance_ratio_0"), 1.0, 1e-6);
 }
 
-TEST(CalibrationObjective, TrueParametersMatchPointwiseAndWithMae) {
+TEST(CaterpillarCalibration, TrueParametersMatchPointwiseAndWithMae) {
   auto r = Eval(Input(8.8, 1.0, "pointwise"));
   ASSERT_TRUE(r.valid) << r.reason;
   EXPECT_LT(r.metrics.at("error"), 1e-9);
@@ -333,9 +191,9 @@ TEST(CalibrationObjective, TrueParametersMatchPointwiseAndWithMae) {
   EXPECT_NEAR(r.metrics.at("offset_x"), kOffsetX, 1e-9);
 }
 
-TEST(CalibrationObjective, TimeOffsetGeneAlignsTheClocks) {
+TEST(CaterpillarCalibration, TimeOffsetGeneAlignsTheClocks) {
   objectives::EvalInput in = Input(8.8, 1.0, "shape");
-  in.gene_names.push_back(kTimeOffsetParam);
+  in.gene_names.push_back(calibration::kTimeOffsetGene);
   in.genes.push_back(kShiftSamples * kDt);
   const auto r = Eval(in);
   ASSERT_TRUE(r.valid) << r.reason;
@@ -344,7 +202,7 @@ TEST(CalibrationObjective, TimeOffsetGeneAlignsTheClocks) {
   EXPECT_NEAR(r.metrics.at("offset_x"), kOffsetX, 1e-9);
 }
 
-TEST(CalibrationObjective, StatsModeMatchesAtTrueParameters) {
+TEST(CaterpillarCalibration, StatsModeMatchesAtTrueParameters) {
   const auto r = Eval(Input(8.8, 1.0, "stats"));
   ASSERT_TRUE(r.valid) << r.reason;
   EXPECT_LT(r.metrics.at("error"), 1e-6);
@@ -360,7 +218,7 @@ TEST(CalibrationObjective, StatsModeMatchesAtTrueParameters) {
 // the true value the error grows with the distance from it. Below it the gait changes
 // regime (at 7.6 to 8.2 N it walks forward 1.4 mm per cycle instead of backward 0.7 mm),
 // so the error there is not monotone; the stiffness scan below is.
-TEST(CalibrationObjective, ForceScanHasItsMinimumAtTheTrueValue) {
+TEST(CaterpillarCalibration, ForceScanHasItsMinimumAtTheTrueValue) {
   const std::vector<double> forces = {7.0, 7.6, 8.2, 8.8, 9.4, 10.0, 10.6};
   std::vector<double> errors;
   for (double f : forces) {
@@ -382,7 +240,7 @@ TEST(CalibrationObjective, ForceScanHasItsMinimumAtTheTrueValue) {
 }
 
 // The link stiffness scale: minimum at 1 and monotone on both sides.
-TEST(CalibrationObjective, StiffnessScanIsMonotoneAroundTheTrueValue) {
+TEST(CaterpillarCalibration, StiffnessScanIsMonotoneAroundTheTrueValue) {
   const std::vector<double> scales = {0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3};
   std::vector<double> errors;
   for (double s : scales) {
@@ -400,10 +258,10 @@ TEST(CalibrationObjective, StiffnessScanIsMonotoneAroundTheTrueValue) {
 }
 
 // Several recordings: the error is their mean, with metrics per recording.
-TEST(CalibrationObjective, AveragesOverRecordings) {
+TEST(CaterpillarCalibration, AveragesOverRecordings) {
   objectives::EvalInput in = Input(9.4, 1.0, "shape");
   auto other = std::make_shared<recording::Recording>(*MakeRecording(Defaults(), 0, 0));
-  other->meta.genes = TravellingWaveGenes(0.8);  // the same gait, no offset or shift
+  other->meta.genes = Wave(0.8);  // the same gait, no offset or shift
   in.recordings.push_back(other);
   const auto r = Eval(in);
   ASSERT_TRUE(r.valid) << r.reason;
@@ -426,7 +284,7 @@ TEST(CalibrationObjective, AveragesOverRecordings) {
 // cells or NaN), about 10% of the cells, as a motion-capture export writes them. Parsed, it
 // calibrates as the complete one does: the force scan keeps its minimum at the true value,
 // with the same shift and offsets.
-TEST(CalibrationObjective, OccludedMarkersAreBridgedAndCalibrateTheSame) {
+TEST(CaterpillarCalibration, OccludedMarkersAreBridgedAndCalibrateTheSame) {
   const recording::Recording& full = *TrueRecording();
   std::string csv = "t";
   for (const auto& c : full.channels) csv += "," + c;
@@ -481,10 +339,10 @@ TEST(CalibrationObjective, OccludedMarkersAreBridgedAndCalibrateTheSame) {
   EXPECT_LT(errors[1], errors[2] / 2);
 }
 
-TEST(CalibrationObjective, WeightsOptionWeighsTheRecordings) {
+TEST(CaterpillarCalibration, WeightsOptionWeighsTheRecordings) {
   objectives::EvalInput in = Input(9.4, 1.0, "shape");
   auto other = std::make_shared<recording::Recording>(*MakeRecording(Defaults(), 0, 0));
-  other->meta.genes = TravellingWaveGenes(0.5);  // another gait: another error
+  other->meta.genes = Wave(0.5);  // another gait: another error
   in.recordings.push_back(other);
   const auto equal = Eval(in);
   ASSERT_TRUE(equal.valid) << equal.reason;
@@ -512,7 +370,7 @@ TEST(CalibrationObjective, WeightsOptionWeighsTheRecordings) {
   }
 }
 
-TEST(CalibrationObjective, ChannelsOptionSelects) {
+TEST(CaterpillarCalibration, ChannelsOptionSelects) {
   objectives::EvalInput in = Input(9.4, 1.0, "shape");
   in.options["channels"] = "m1.z, m6.z";
   const auto r = Eval(in);
@@ -524,12 +382,12 @@ TEST(CalibrationObjective, ChannelsOptionSelects) {
   EXPECT_FALSE(Eval(in).valid);
 }
 
-TEST(CalibrationObjective, BadInputsAreInvalidWithAReason) {
+TEST(CaterpillarCalibration, BadInputsAreInvalidWithAReason) {
   objectives::EvalInput in = Input(8.8, 1.0, "shape");
   in.gene_names[1] = "scale.link_stifness";
   auto r = Eval(in);
   EXPECT_FALSE(r.valid);
-  EXPECT_THAT(r.reason, HasSubstr("unknown caterpillar calibration parameter"));
+  EXPECT_THAT(r.reason, HasSubstr("caterpillar has no parameter scale.link_stifness"));
 
   in = Input(200, 1.0, "shape");
   r = Eval(in);
@@ -552,7 +410,7 @@ TEST(CalibrationObjective, BadInputsAreInvalidWithAReason) {
 }
 
 // The unstable model of evaluation_test.cc (stiff, barely damped links at h = 2 ms).
-TEST(CalibrationObjective, DivergingSimulationIsInvalid) {
+TEST(CaterpillarCalibration, DivergingSimulationIsInvalid) {
   objectives::EvalInput in = Input(8.8, 1.0, "shape");
   in.gene_names = {"links.flexure.axial_stiffness_n_per_m", "links.segment.axial_stiffness_n_per_m",
                    "links.axial_damping_ratio"};
@@ -564,9 +422,9 @@ TEST(CalibrationObjective, DivergingSimulationIsInvalid) {
   EXPECT_THAT(r.reason, HasSubstr("diverged"));
 }
 
-TEST(CalibrationObjective, DeterministicAcrossThreads) {
+TEST(CaterpillarCalibration, DeterministicAcrossThreads) {
   const objectives::EvalInput in = Input(9.4, 1.0, "shape");
-  const CalibrationObjective objective(Defaults());
+  const RobotCalibrationObjective objective;
   objectives::EvalResult a, b;
   std::thread ta([&] { a = objective.Evaluate(in); });
   std::thread tb([&] { b = objective.Evaluate(in); });
@@ -578,11 +436,5 @@ TEST(CalibrationObjective, DeterministicAcrossThreads) {
   EXPECT_EQ(Eval(in).fitness, a.fitness);
 }
 
-TEST(CalibrationObjective, Registers) {
-  objectives::ObjectiveRegistry registry;
-  RegisterCaterpillarCalibration(registry);
-  EXPECT_NE(registry.Find(kCalibrationObjectiveName), nullptr);
-}
-
 }  // namespace
-}  // namespace gaitforge::caterpillar
+}  // namespace gaitforge::generic

@@ -1,0 +1,45 @@
+// The effect catalog (workers/effects/effects.h): stable ids in order, each entry complete,
+// each parameter in one effect only with a nominal value inside its range. What each effect
+// does to a robot: tests/unit/generic (caterpillar_effects_test.cc, walker_test.cc).
+#include <set>
+#include <string>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "workers/effects/effects.h"
+
+namespace gaitforge::effects {
+namespace {
+
+TEST(EffectCatalog, HasTheStableIdsInOrder) {
+  std::vector<std::string> ids;
+  for (const auto& e : EffectCatalog()) ids.push_back(e.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{
+                     "tether.constant", "tether.growing", "ground.slope", "friction.viscous",
+                     "friction.anisotropic", "actuator.lag", "actuator.delay",
+                     "actuator.force_scale", "actuator.deadband", "servo.deadband",
+                     "contact.softness", "mass.offset", "stiffness.scale", "spring.softening",
+                     "model.resolution", "damping.scale"}));
+  for (const auto& e : EffectCatalog()) {
+    EXPECT_EQ(FindEffect(e.id), &e);
+    EXPECT_FALSE(e.name.empty() || e.meaning.empty() || e.where.empty() || e.experiment.empty())
+        << e.id;
+    EXPECT_FALSE(e.params.empty()) << e.id;
+  }
+  EXPECT_EQ(FindEffect("no.such"), nullptr);
+}
+
+TEST(EffectCatalog, EachParameterOnceWithItsNominalInRange) {
+  std::set<std::string> seen;
+  for (const auto& e : EffectCatalog()) {
+    for (const auto& p : e.params) {
+      EXPECT_TRUE(seen.insert(p.name).second) << p.name << " in two effects";
+      EXPECT_LT(p.lo, p.hi) << p.name;
+      EXPECT_GE(p.nominal, p.lo) << p.name;
+      EXPECT_LE(p.nominal, p.hi) << p.name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gaitforge::effects
