@@ -1,4 +1,4 @@
-// How faithful is the caterpillar model at each timestep, and what does it cost? For a fixed
+// How faithful is the caterpillar (on the generic builder) at each timestep, and what does it cost? For a fixed
 // sample of random 13-gene gaits (the GA's initial population distribution, seed 1) and the
 // eight travelling waves at five periods, the distance per cycle (mean over --cycles after 2
 // settling cycles) at h = 0.2 (the reference) .. 2 ms. Per h: the median and 90th percentile
@@ -17,13 +17,15 @@
 #include <thread>
 #include <vector>
 
-#include "workers/models/caterpillar/caterpillar_eval.h"
-#include "workers/models/caterpillar/gait.h"
+#include "robots/onoff_waves.h"
+#include "robots/registry.h"
+#include "workers/models/generic/generic_gait.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace {
 
-using namespace gaitforge::caterpillar;
+using gaitforge::generic::GaitOptions;
+using gaitforge::generic::GaitResult;
 
 double ThreadCpuSeconds() {
   timespec ts;
@@ -92,19 +94,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   gaitforge::sim::InitProcess();
-  const CaterpillarParams& params = DefaultCaterpillarParams();
+  const auto& robot = gaitforge::robots::Robot("caterpillar");
+  const gaitforge::generic::ParamValues values(robot);
 
+  // Random genotypes over the gene space (phases in [0, 1], T in [0.2, 2] s).
   std::vector<std::vector<double>> genes;
   std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> unit(0, 1), period(0.2, 2.0);
+  std::uniform_real_distribution<double> unit(0, 1);
   for (int i = 0; i < count; ++i) {
-    std::vector<double> g(kGenes);
-    for (int k = 0; k < 12; ++k) g[k] = unit(rng);
-    g[12] = period(rng);
+    std::vector<double> g;
+    for (const auto& gene : robot.controller.genes) g.push_back(gene.lo + (gene.hi - gene.lo) * unit(rng));
     genes.push_back(g);
   }
-  for (const WaveShape& shape : WaveFamily()) {
-    for (double T : {0.4, 0.6, 0.8, 1.2, 1.6}) genes.push_back(WaveGenes(T, shape));
+  const int actuators = static_cast<int>(robot.controller.actuators.size());
+  for (const auto& shape : gaitforge::robots::WaveFamily()) {
+    for (double T : {0.4, 0.6, 0.8, 1.2, 1.6})
+      genes.push_back(gaitforge::robots::WaveGenes(actuators, T, shape));
   }
 
   std::vector<Column> columns;
@@ -116,12 +121,12 @@ int main(int argc, char** argv) {
     for (int t = 0; t < 2; ++t) {
       threads.emplace_back([&, t] {
         gaitforge::sim::InitThread();
-        EvalOptions o;
+        GaitOptions o;
         o.timestep_s = c.h;
         o.measured_cycles = cycles;
         const double t0 = ThreadCpuSeconds();
         for (size_t i = t; i < genes.size(); i += 2) {
-          const GaitEvaluation e = EvaluateGait(params, *Gait::FromGenes(genes[i]), o);
+          const GaitResult e = gaitforge::generic::EvaluateGait(robot, values, genes[i], o);
           simulated[t] += e.simulated_s;
           if (e.valid) c.distance[i] = e.distance_per_cycle_m;
         }

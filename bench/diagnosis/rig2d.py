@@ -2,7 +2,7 @@
 """An independent simulator of the caterpillar (canonical geometry, ../shared/robots/
 caterpillar.md) for the gap finder's foreign test cases: NOT the ODE model being diagnosed.
 
-What differs from workers/models/caterpillar, on purpose:
+What differs from the ODE model (the caterpillar on the generic builder), on purpose:
   - resolution: every lump is split into two 15 mm sub-lumps joined by a silicone beam
     element (E 435 kPa, nu 0.33 over the lump's 40 x 25 mm section: axial EA/L, shear GA/L,
     bending EI/L, critically damped), so a lump is no longer rigid;

@@ -3,14 +3,14 @@
 // model (issue 8): the "missing physics" the papers name (../shared/papers/README.md) as
 // compact parametric forms with a physical meaning. Each effect is expressed by calibratable
 // parameters by name, so that a calibration study can fit them: parameters a robot's
-// descriptor declares itself (a dedicated model's effect.* parameters), or parameters the
+// descriptor declares itself (with its own allowed range), or parameters the
 // generic builder adds to any robot with the part the effect attaches to.
 //
 // Pure data: this library does not depend on a model or on ODE (only on robots/).
 //
 // Where an effect applies: its parameters are either a robot's own (a calibratable
-// parameter or scale of its descriptor: actuators.force_n, scale.mass; a dedicated model's
-// effect.* parameters) or, for an effect that declares the part it `attaches` to, parameters
+// parameter or scale of its descriptor: actuators.force_n, scale.mass; an effect.* parameter
+// it declares) or, for an effect that declares the part it `attaches` to, parameters
 // the generic builder (workers/models/generic/) adds to any robot with that part.
 //
 // Ids are stable (a study or report may store them):
@@ -32,7 +32,7 @@ struct EffectInfo {
   std::string name;     // short human name
   std::string meaning;  // the physics and its parametric form
   struct Param {
-    std::string name;   // a SetParam name (param_overrides.h)
+    std::string name;   // a name generic::ParamValues::Set accepts
     // The range a fit may search, and the value that leaves the model as it is (the effect
     // absent: 0 for effect.*, 1 for scale.*, the descriptor's value for an absolute
     // field). A range wide enough for the paper's story (tether: the hardware travelled

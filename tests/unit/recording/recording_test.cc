@@ -108,7 +108,7 @@ TEST(RecordingTest, GoodFileRoundTripsExactly) {
   }
   const std::string sidecar = std::string(R"({
   "robot": "caterpillar",
-  "parameters": "workers/models/caterpillar/caterpillar.yaml",
+  "parameters": "robots/caterpillar/robot.yaml",
   "overrides": {"lump_mass": 0.031, "friction": 1e3},
   "command": {"kind": "gait", "genes": )") +
                               kGenes + R"(},
@@ -138,7 +138,7 @@ TEST(RecordingTest, GoodFileRoundTripsExactly) {
   EXPECT_EQ(r->ChannelIndex("t"), -1);
   const RecordingMeta& m = r->meta;
   EXPECT_EQ(m.robot, "caterpillar");
-  EXPECT_EQ(m.parameters, "workers/models/caterpillar/caterpillar.yaml");
+  EXPECT_EQ(m.parameters, "robots/caterpillar/robot.yaml");
   EXPECT_EQ(m.overrides, (std::map<std::string, double>{{"friction", 1000}, {"lump_mass", 0.031}}));
   EXPECT_EQ(m.command_kind, "gait");
   EXPECT_EQ(m.genes, (std::vector<double>{0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.35, 0.45, 0.55, 0.65,
