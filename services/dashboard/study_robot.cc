@@ -30,6 +30,16 @@ std::string StudyRobotJson(const v1::StudySpec& spec) {
   std::string note;
   if (info == nullptr) {
     note = absl::StrCat("unknown objective '", o.name(), "'");
+  } else if (info->calibration) {
+    // A calibration's genes are the robot's parameters, not its controller's: shown by
+    // name within their bounds.
+    auto robot = robots::ResolveRobot(info->calibrates.empty() ? o.robot() : info->calibrates,
+                                      o.robot_descriptor());
+    return JsonObject(
+        {{"robot", JsonString(robot.ok() ? (*robot)->name : "")},
+         {"controller", "null"},
+         {"note", JsonString(absl::StrCat("a calibration: its genes are the robot's parameters, "
+                                          "shown as positions within their bounds"))}});
   } else if (info->uses_robot || !info->gait_robot.empty()) {
     auto robot = info->uses_robot ? robots::ResolveRobot(o.robot(), o.robot_descriptor())
                                   : robots::ResolveRobot(info->gait_robot, "");

@@ -168,6 +168,15 @@ TEST(StudyRobot, NamesTheControllerTheGenesDrive) {
   spec.mutable_objective()->set_robot_descriptor(text.str());
   const std::string twobox = dashboard::StudyRobotJson(spec);
   EXPECT_TRUE(Has(twobox, "\"robot\":\"twobox\"") && Has(twobox, "\"kind\":\"sine\"")) << twobox;
+  // A calibration's genes are parameters: the robot, no controller to draw them with.
+  spec.mutable_objective()->set_name("robot.calibration");
+  const std::string fit = dashboard::StudyRobotJson(spec);
+  EXPECT_TRUE(Has(fit, "\"robot\":\"twobox\"") && Has(fit, "\"controller\":null") &&
+              Has(fit, "the robot's parameters")) << fit;
+  spec.clear_objective();
+  spec.mutable_objective()->set_name("caterpillar.calibration");
+  const std::string own = dashboard::StudyRobotJson(spec);
+  EXPECT_TRUE(Has(own, "\"robot\":\"caterpillar\"") && Has(own, "\"controller\":null")) << own;
   spec.mutable_objective()->set_name("analytic.sphere");
   const std::string none = dashboard::StudyRobotJson(spec);
   EXPECT_TRUE(Has(none, "\"controller\":null") && Has(none, "drives no robot")) << none;
