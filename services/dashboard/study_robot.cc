@@ -33,13 +33,14 @@ std::string StudyRobotJson(const v1::StudySpec& spec) {
   } else if (info->calibration) {
     // A calibration's genes are the robot's parameters, not its controller's: shown by
     // name within their bounds.
-    auto robot = robots::ResolveRobot(info->calibrates.empty() ? o.robot() : info->calibrates,
-                                      o.robot_descriptor());
+    auto robot = info->uses_robot ? robots::ResolveRobot(o.robot(), o.robot_descriptor())
+                                  : robots::ResolveRobot(info->calibrates, "");
     return JsonObject(
         {{"robot", JsonString(robot.ok() ? (*robot)->name : "")},
          {"controller", "null"},
-         {"note", JsonString(absl::StrCat("a calibration: its genes are the robot's parameters, "
-                                          "shown as positions within their bounds"))}});
+         {"note", JsonString(robot.ok() ? "a calibration: its genes are the robot's parameters, "
+                                          "shown as positions within their bounds"
+                                        : std::string(robot.status().message()))}});
   } else if (info->uses_robot || !info->gait_robot.empty()) {
     auto robot = info->uses_robot ? robots::ResolveRobot(o.robot(), o.robot_descriptor())
                                   : robots::ResolveRobot(info->gait_robot, "");
