@@ -167,7 +167,8 @@ struct Joint {
 struct Actuator {
   std::string name;
   // "servo": position control of a hinge; "piston": a force along the line between two
-  // bodies' points, with a return spring and stroke stops (docs/robots.md).
+  // bodies' points, with a return spring and stroke stops; "tendon": a rod fixed to a
+  // distal body and pulled from a proximal one (docs/robots.md).
   std::string type;
   std::string joint;
   // servo: speed command gain (1/s) on the angle error, speed limit (rad/s), torque limit
@@ -180,6 +181,13 @@ struct Actuator {
   std::string body1, body2;
   Vec3Expr attach1, attach2;
   Expr force, return_stiffness, min_length, max_length, stop_erp, stop_cfm, overrun_tolerance;
+  // tendon: a rod from body1 (the base, or the world) to its end on body2 at attach2 (body
+  // frame, m from body2's backbone), pulling body2 along `pull` (body2's frame) with the
+  // command's force (N, signed: a rod pushes too), at most max_force (N) either way. The
+  // rod's tension is carried by the backbone, so what the tendon does is a moment,
+  // attach2 x pull f, on body2 and its opposite on body1 (paper 004's T = B f).
+  Vec3Expr pull;
+  Expr max_force;
   Mark mark;
 };
 

@@ -269,6 +269,23 @@ Status ParsePiston(const YamlFields& f, const YAML::Node& n, const std::string& 
   return absl::OkStatus();
 }
 
+Status ParseTendon(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                   const RobotDescriptor& d, Actuator& a) {
+  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "attach", "pull", "max_force"});
+      !s.ok())
+    return s;
+  const YAML::Node bodies = n["bodies"];
+  if (!bodies.IsSequence() || bodies.size() != 2)
+    return f.Error(bodies, path + ".bodies", "must be [BASE, END]: the body (or world) it is pulled from, the body its rod is fixed to");
+  if (Status s = ReadBodyName(f, bodies[0], path + ".bodies[0]", d, a.body1, true); !s.ok())
+    return s;
+  if (Status s = ReadBodyName(f, bodies[1], path + ".bodies[1]", d, a.body2); !s.ok()) return s;
+  if (a.body1 == a.body2) return f.Error(bodies, path + ".bodies", "must name two bodies");
+  if (Status s = ReadVec(f, n["attach"], path + ".attach", d, a.attach2); !s.ok()) return s;
+  if (Status s = ReadVec(f, n["pull"], path + ".pull", d, a.pull); !s.ok()) return s;
+  return ReadExpr(f, n["max_force"], path + ".max_force", d, a.max_force);
+}
+
 Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string& path,
                      RobotDescriptor& d) {
   Actuator a;
@@ -283,7 +300,13 @@ Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string
     d.actuators.push_back(std::move(a));
     return absl::OkStatus();
   }
-  if (a.type != "servo") return f.Error(n["type"], path + ".type", "must be servo or piston");
+  if (a.type == "tendon") {
+    if (Status s = ParseTendon(f, n, path, d, a); !s.ok()) return s;
+    d.actuators.push_back(std::move(a));
+    return absl::OkStatus();
+  }
+  if (a.type != "servo")
+    return f.Error(n["type"], path + ".type", "must be servo, piston or tendon");
   if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "max_torque",
                                       "lag_s"});
       !s.ok())

@@ -256,7 +256,11 @@ bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
   if (d.model != "generic") return false;
   if (part == "tether_body" || part == "every_body") return !d.bodies.empty();
   if (part == "ground") return d.ground.has_value();
-  if (part == "actuators") return !d.actuators.empty();
+  // A lag or delay of the command: the builder applies it to servos and pistons.
+  if (part == "actuators")
+    return std::any_of(d.actuators.begin(), d.actuators.end(), [](const robots::Actuator& a) {
+      return a.type == "servo" || a.type == "piston";
+    });
   if (part == "spring_links")
     return std::any_of(d.joints.begin(), d.joints.end(),
                        [](const robots::Joint& j) { return j.type == "spring_link"; });

@@ -26,10 +26,11 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
             ? absl::StrCat("gait period T = ", period, " s is outside [", kind.min_period_s, ", ",
                            kind.max_period_s, "] s")
             : absl::StrCat("the genes give a gait period of ", period, " s"));
-  // Servos take set-point angles; pistons the fraction of their force (on/off: 1 or 0).
-  for (const std::string& name : c.actuators)
+  // Servos take set-point angles; pistons the fraction of their force (on/off: 1 or 0);
+  // tendons a force, which no gait kind gives yet. Holding (all 0) suits every type.
+  for (const std::string& name : kind.name == "hold" ? std::vector<std::string>{} : c.actuators)
     for (const robots::Actuator& a : d.actuators)
-      if (a.name == name && (a.type == "servo") != kind.set_points)
+      if (a.name == name && (a.type == "tendon" || (a.type == "servo") != kind.set_points))
         return absl::InvalidArgumentError(absl::StrCat(
             "controller kind ", c.kind, kind.set_points ? " gives set-point angles" : " switches on and off",
             ", which ", a.type, " ", a.name, " cannot take"));

@@ -51,6 +51,7 @@ void GenericWorld::ApplyJointTorques() {
     const double rate = dJointGetHingeAngleRate(j);
     dJointAddHingeTorque(j, -s.k * (angle - s.rest) - s.c * rate);
   }
+  UpdateUniversalDampers();
 }
 
 void GenericWorld::ApplyEffects() {
@@ -196,10 +197,11 @@ sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
   try {
     ApplyJointTorques();
     ApplyPistons(commands);
+    ApplyTendons(commands);
     ApplyEffects();
     ApplyServos(commands);
     if (!d_.ground) {
-      ground_contacts_ = 0;
+      ground_contacts_ = -1;  // nothing to touch: not "airborne"
     } else if (d_.plane.empty()) {
       AddGroundContacts();
     } else {

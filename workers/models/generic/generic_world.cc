@@ -228,8 +228,12 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
       continue;
     }
     if (j.type == "universal") {
-      joints_.push_back(BuildUniversal(j, body(j.body1, anchor), body(j.body2, anchor), v));
-      springs_.push_back(SpringOf(j, v));
+      const dJointID u = BuildUniversal(j, body(j.body1, anchor), body(j.body2, anchor), v);
+      joints_.push_back(u);
+      Spring s = SpringOf(j, v);
+      AddUniversalDamper(u, s.c, s.c2);
+      s.c = s.c2 = 0;  // the dampers are rows; the springs stay torques
+      springs_.push_back(s);
       continue;
     }
     dJointID hinge = dJointCreateHinge(world_.world(), nullptr);
@@ -262,6 +266,41 @@ dJointID GenericWorld::BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyI
   return u;
 }
 
+// A universal joint's dampers as two soft velocity rows of an angular motor on its axes
+// (ode-notes.md, "Springs and dampers": a row with target speed 0 and CFM 1/c is the
+// implicit damper f = -c w_{n+1}). Explicit damping torques need c h small against the
+// lighter body's inertia about the axis, which a chain of light disks on long links (paper
+// 004's arm, with the stiffness and damping a GA searches) does not give; implicit rows are
+// stable for any c. The axes follow the joint's (UpdateUniversalDampers, every step).
+void GenericWorld::AddUniversalDamper(dJointID u, double c1, double c2) {
+  if (c1 <= 0 && c2 <= 0) return;
+  dJointID m = dJointCreateAMotor(world_.world(), nullptr);
+  dJointAttach(m, dJointGetBody(u, 0), dJointGetBody(u, 1));
+  dJointSetAMotorMode(m, dAMotorUser);
+  dJointSetAMotorNumAxes(m, 2);
+  const struct {
+    int vel, fmax, cfm;
+    double c;
+  } axes[2] = {{dParamVel, dParamFMax, dParamCFM, c1}, {dParamVel2, dParamFMax2, dParamCFM2, c2}};
+  for (const auto& a : axes) {
+    dJointSetAMotorParam(m, a.vel, 0);
+    dJointSetAMotorParam(m, a.fmax, a.c > 0 ? dInfinity : 0);
+    if (a.c > 0) dJointSetAMotorParam(m, a.cfm, 1 / a.c);
+  }
+  universal_dampers_.push_back({u, m});
+  UpdateUniversalDampers();
+}
+
+void GenericWorld::UpdateUniversalDampers() {
+  for (const auto& [u, m] : universal_dampers_) {
+    dVector3 x1, x2;  // world frame
+    dJointGetUniversalAxis1(u, x1);
+    dJointGetUniversalAxis2(u, x2);
+    dJointSetAMotorAxis(m, 0, 0, x1[0], x1[1], x1[2]);
+    dJointSetAMotorAxis(m, 1, 0, x2[0], x2[1], x2[2]);
+  }
+}
+
 GenericWorld::Spring GenericWorld::SpringOf(const robots::Joint& j, const ParamValues& v) {
   Spring s;
   auto set = [&v](const std::optional<robots::Expr>& e, double& out) {
@@ -281,6 +320,10 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
     const robots::Actuator& a = d_.actuators[index];
     if (a.type == "piston") {
       if (absl::Status s = BuildPiston(a, static_cast<int>(index), v); !s.ok()) return s;
+      continue;
+    }
+    if (a.type == "tendon") {
+      if (absl::Status s = BuildTendon(a, static_cast<int>(index), v); !s.ok()) return s;
       continue;
     }
     Servo s;

@@ -86,7 +86,8 @@ class GenericWorld : public RobotWorld {
 
   // One step with `commands[i]` the angle (rad) commanded to actuator i (descriptor order).
   // !ok once the state diverged (NaN, too fast, too far, ODE error): do not step again.
-  // A piston's command is the fraction (0..1) of its force it pushes with.
+  // A piston's command is the fraction (0..1) of its force it pushes with; a tendon's its
+  // force (N, clamped to its max_force); a missing command is 0.
   sim::SimOutcome Step(const std::vector<double>& commands) override;
 
   double time() const override { return steps_ * h_; }
@@ -157,6 +158,8 @@ class GenericWorld : public RobotWorld {
   std::pair<int, std::array<double, 3>> Locate(int body, std::array<double, 3> point) const;
   int BodyIndex(const std::string& name) const;  // in the descriptor; -1: the world
   absl::Status BuildPiston(const robots::Actuator& a, int index, const ParamValues& v);
+  absl::Status BuildTendon(const robots::Actuator& a, int index, const ParamValues& v);
+  void ApplyTendons(const std::vector<double>& commands);
   void ApplyJointTorques();
   void ApplyPistons(const std::vector<double>& commands);
   void AddPlanarGroundContacts();
@@ -176,6 +179,9 @@ class GenericWorld : public RobotWorld {
   };
   static Spring SpringOf(const robots::Joint& j, const ParamValues& v);
   void AddUniversalSpring(dJointID j, const Spring& s);
+  void AddUniversalDamper(dJointID u, double c1, double c2);
+  void UpdateUniversalDampers();
+  std::vector<std::pair<dJointID, dJointID>> universal_dampers_;  // (joint, its damper motor)
   static double UniversalAngle(dJointID j, int axis);
   // A spring link's three rows: a shear row (a distance held between a point far above
   // the anchor on body 1 and the anchor on body 2), the axial spring and the bend spring
@@ -243,6 +249,15 @@ class GenericWorld : public RobotWorld {
   std::vector<Link> links_;
   std::vector<int> joint_link_;  // per descriptor joint: its index in links_, or -1
   std::vector<Piston> pistons_;
+  // A tendon (generic_tendons.cc): its force, clamped to +-max (N), turns body `end` by
+  // `arm` (N m per N, its frame) and `base` (nullptr: the world) the other way.
+  struct Tendon {
+    int actuator = 0;
+    dBodyID base = nullptr, end = nullptr;
+    std::array<double, 3> arm{};
+    double max = 0;
+  };
+  std::vector<Tendon> tendons_;
   std::vector<double> piston_lengths_;  // after the last step
   std::vector<double> piston_extensions_;  // length - min_length, after the last step
   double piston_work_ = 0;  // in the last step

@@ -189,6 +189,9 @@ absl::StatusOr<std::string> ToMjcf(const robots::RobotDescriptor& d, const Param
       if (absl::Status s = w.Body(static_cast<int>(i), 0); !s.ok()) return s;
   w.out << "  </worldbody>\n  <actuator>\n";
   for (const robots::Actuator& a : d.actuators) {
+    if (a.type != "servo")
+      return absl::InvalidArgumentError(absl::StrCat(
+          a.mark.ToString(), ": the MuJoCo build drives servos only, not ", a.type, " ", a.name));
     const double torque = Eval(a.max_torque, v), speed = Eval(a.max_speed, v);
     if (!(torque > 0 && speed > 0))
       return absl::InvalidArgumentError(absl::StrCat(a.mark.ToString(), ": servo ", a.name,
