@@ -1,6 +1,6 @@
 #pragma once
-// Comparing a model with recordings, for every calibration objective ("caterpillar.calibration",
-// "robot.calibration"): a model simulates a recording's command from rest and gives its
+// Comparing a model with recordings, for every calibration objective ("robot.calibration" and
+// a robot's own name for it): a model simulates a recording's command from rest and gives its
 // channels (markers "m1.x", joint angles "hinge.angle", ...) sampled regularly; this file
 // chooses the compared channels, runs the simulation long enough, and computes the error
 // (calibration_error.h: paper 003's phase-shift-invariant error of period-averaged signals,

@@ -1,6 +1,6 @@
 // GenericWorld's parts for planar robots (generic_world.h): spring links, pistons, ground
 // contacts on the centre plane and self-contacts, for lumped soft robots that move in a
-// plane (robots/caterpillar is one).
+// plane.
 #include <algorithm>
 #include <cmath>
 

@@ -90,7 +90,7 @@ BuilderEffects::BuilderEffects(const ParamValues& v)
       lump_compliance(v.Effect("effect.lump_compliance_per_mpa")) {}
 
 double ParamValues::Effect(const std::string& name) const {
-  // A robot may declare an effect's parameter itself (the caterpillar's descriptor does).
+  // A robot may declare an effect's parameter itself, with its own allowed range.
   if (d_->FindParameter(name) != nullptr) return (*this)(name);
   auto it = effects_.find(name);
   return it == effects_.end() ? 0.0 : it->second;
