@@ -129,6 +129,24 @@ std::vector<std::string> RobotDescriptor::Channels() const {
   return out;
 }
 
+std::vector<std::string> RobotDescriptor::InputChannels() const {
+  std::vector<std::string> out;
+  for (const auto& a : actuators) out.push_back(a.InputChannel());
+  return out;
+}
+
+std::string Actuator::InputChannel() const {
+  if (type == "tendon") return name + ".force";
+  if (type == "servo") return name + ".setpoint";
+  return name + ".on";
+}
+
+std::string Actuator::InputUnit() const {
+  if (type == "tendon") return "N";
+  if (type == "servo") return "rad";
+  return "1";
+}
+
 int RobotDescriptor::MarkerCount() const {
   for (const auto& s : sensors)
     if (s.kind == "marker") return static_cast<int>(s.names.size());

@@ -189,6 +189,11 @@ struct Actuator {
   Vec3Expr pull;
   Expr max_force;
   Mark mark;
+  // The recording column that drives this actuator under a "playback" command
+  // (docs/recording-format.md) and its unit: a tendon's force "<name>.force" (N), a servo's
+  // set-point "<name>.setpoint" (rad), a piston's share of its force "<name>.on" (0..1).
+  std::string InputChannel() const;
+  std::string InputUnit() const;
 };
 
 // Ground contact: the plane z = 0 under every body.
@@ -245,6 +250,8 @@ struct RobotDescriptor {
   std::vector<std::string> CalibratableNames() const;
   // The recording channels besides "t": "m1.x", ..., "knee_l.angle", in sensor order.
   std::vector<std::string> Channels() const;
+  // Every actuator's input channel (Actuator::InputChannel), in descriptor order.
+  std::vector<std::string> InputChannels() const;
   // Markers (rear to front) and their rest spacing (m); 0 and 0 when it has none.
   int MarkerCount() const;
   double MarkerSpacing() const;

@@ -55,7 +55,10 @@ std::vector<ParamInfo> ComparisonParams(ParamInfo settle_cycles, ParamInfo times
            "error = stats: weight of the relative z-shape error against the distance error"},
           {"min_distance_m", 1e-6, 1, 1e-3,
            "error = stats: floor of |real distance per cycle| in the relative distance error "
-           "(m)"}};
+           "(m)"},
+          {"window_s", 0, 1e4, 0,
+           "error = acceleration: compare the first window_s seconds of each recording (paper "
+           "004: 0.2); 0: all of it"}};
 }
 
 ParamInfo StartPhase() {
@@ -64,7 +67,7 @@ ParamInfo StartPhase() {
 }
 
 std::vector<std::pair<std::string, std::vector<std::string>>> ComparisonOptions() {
-  return {{"error", {"shape", "pointwise", "stats"}},
+  return {{"error", {"shape", "pointwise", "stats", "acceleration"}},
           {"metric", {"rmse", "mae"}},
           {"channels", {}},
           {"weights", {}}};

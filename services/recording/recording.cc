@@ -25,6 +25,12 @@ RobotInfo InfoOf(const robots::RobotDescriptor& d) {
   RobotInfo info;
   info.name = d.name;
   info.channels = d.Channels();
+  for (const auto& c : info.channels) info.units[c] = UnitOf(c);
+  for (const auto& a : d.actuators) {
+    info.inputs.push_back(a.InputChannel());
+    info.units[a.InputChannel()] = a.InputUnit();
+  }
+  info.channels.insert(info.channels.end(), info.inputs.begin(), info.inputs.end());
   info.gene_count = static_cast<int>(d.controller.genes.size());
   std::vector<std::string> genes;
   for (const auto& g : d.controller.genes) genes.push_back(g.name);
@@ -50,10 +56,9 @@ const RobotInfo* FindRobot(std::string_view name) {
 std::string KnownRobots() { return absl::StrJoin(robots::RobotNames(), ", "); }
 
 std::string UnitOf(std::string_view channel) {
-  constexpr std::string_view kAngle = ".angle";
-  if (channel.size() > kAngle.size() && channel.substr(channel.size() - kAngle.size()) == kAngle)
-    return "rad";
-  return "m";
+  const size_t dot = channel.rfind('.');
+  const std::string_view field = dot == std::string_view::npos ? "" : channel.substr(dot + 1);
+  return field == "angle" || field == "angle1" || field == "angle2" ? "rad" : "m";
 }
 
 std::string Quote(std::string_view s) {
@@ -432,6 +437,13 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
       return Err(sidecar_name, mark.first, mark.second,
                  absl::StrCat("key 'channels.", ch, "': channel '", ch, "' is not a column of ",
                               csv_name));
+  if (rec.meta.command_kind == "playback")
+    for (const std::string& input : side->robot->inputs)
+      if (rec.ChannelIndex(input) < 0)
+        return Err(sidecar_name, side->command_mark.first, side->command_mark.second,
+                   absl::StrCat("key 'command.kind': a playback drives every actuator from its "
+                                "column, and ", csv_name, " has no column '", input,
+                                "' (needed: ", absl::StrJoin(side->robot->inputs, ", "), ")"));
   if (auto st = CheckSampling(csv_name, limits, &rec); !st.ok()) return st;
   if (auto st = BridgeMissing(csv_name, &rec); !st.ok()) return st;
   if (auto st = internal::CheckMarkerFrame(csv_name, *side->robot, rec); !st.ok()) return st;
@@ -460,7 +472,8 @@ std::string ContentHash(std::string_view csv, std::string_view sidecar) {
 
 std::vector<std::string> KnownChannels(const std::string& robot) {
   const internal::RobotInfo* r = internal::FindRobot(robot);
-  return r ? r->channels : std::vector<std::string>{};
+  if (!r) return {};
+  return {r->channels.begin(), r->channels.end() - static_cast<std::ptrdiff_t>(r->inputs.size())};
 }
 
 }  // namespace gaitforge::recording

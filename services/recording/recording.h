@@ -75,8 +75,9 @@ absl::StatusOr<std::string> SidecarRobot(std::string_view sidecar, const std::st
 // Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
 std::string ContentHash(std::string_view csv, std::string_view sidecar);
 
-// The channels a robot's recordings may carry (its descriptor's sensors);
-// empty for an unknown robot.
+// The sensor channels a robot's recordings may carry (its descriptor's sensors; besides
+// them, its actuators' input channels, robots::Actuator::InputChannel); empty for an
+// unknown robot.
 std::vector<std::string> KnownChannels(const std::string& robot);
 
 }  // namespace gaitforge::recording

@@ -17,6 +17,9 @@ namespace gaitforge::recording::internal {
 struct RobotInfo {
   std::string name;                   // the robot's name in robots/
   std::vector<std::string> channels;  // the CSV columns it may carry, besides "t"
+  // Its actuators' input channels (part of `channels`): a "playback" command needs every one.
+  std::vector<std::string> inputs;
+  std::map<std::string, std::string> units;  // channel -> unit, for every channel
   int gene_count = 0;                 // length of command.genes for kind "gait"
   std::string gene_names;             // for messages: "a_T1 a_T2 ... T"
   // Markers m1..m<markers> from the rear to the front, `marker_pitch_m` apart along x at
@@ -30,7 +33,8 @@ RobotInfo InfoOf(const robots::RobotDescriptor& d);
 const RobotInfo* FindRobot(std::string_view name);  // a built-in robot; nullptr when unknown
 std::string KnownRobots();                          // the names, comma-separated
 
-// The unit a channel's values are in: "rad" for "<joint>.angle", "m" otherwise (markers).
+// The unit a sensor channel's values are in: "rad" for "<joint>.angle" (and a universal
+// joint's ".angle1", ".angle2"), "m" otherwise (markers).
 std::string UnitOf(std::string_view channel);
 
 // `s` for a message: C-escaped, cut to 40 bytes with "..." after.
@@ -50,6 +54,7 @@ struct Sidecar {
   // Where each entry of "channels" is (1-based line, column), to report one that the CSV
   // lacks.
   std::map<std::string, std::pair<int, int>> channel_marks;
+  std::pair<int, int> command_mark;  // where command.kind is
 };
 
 // Strict JSON (RFC 8259) syntax check; errors as NAME:LINE:COLUMN: not valid JSON: ...

@@ -264,22 +264,18 @@ class SidecarReader {
     auto kind = Require(*command, cmd, "command", "kind");
     if (!kind.ok()) return kind.status();
     if (auto st = String(*kind, "command.kind", &out.meta.command_kind); !st.ok()) return st;
-    if (out.meta.command_kind != "gait")
+    out.command_mark = {kind->Mark().line + 1, kind->Mark().column + 1};
+    if (out.meta.command_kind == "playback") {
+      // The actuators take the recording's own input columns (ParseRecording checks them).
+      if (cmd.count("genes"))
+        return Error(cmd["genes"], "key 'command.genes': a playback has no genes (its "
+                                   "actuators follow the recording's input columns)");
+    } else if (out.meta.command_kind != "gait") {
       return Error(*kind, absl::StrCat("key 'command.kind': unknown command kind '",
-                                       Quote(out.meta.command_kind), "' (known: gait)"));
-    auto genes = Require(*command, cmd, "command", "genes");
-    if (!genes.ok()) return genes.status();
-    if (!genes->IsSequence()) return Expected(*genes, "command.genes", "an array of numbers");
-    for (size_t i = 0; i < genes->size(); ++i) {
-      double v;
-      if (auto st = Number((*genes)[i], absl::StrCat("command.genes[", i, "]"), &v); !st.ok())
-        return st;
-      out.meta.genes.push_back(v);
+                                       Quote(out.meta.command_kind), "' (known: gait, playback)"));
+    } else if (auto st = ParseGenes(*command, cmd, *out.robot, out.meta); !st.ok()) {
+      return st;
     }
-    if (static_cast<int>(out.meta.genes.size()) != out.robot->gene_count)
-      return Error(*genes, absl::StrCat("key 'command.genes': the ", out.robot->name, " takes ",
-                                        out.robot->gene_count, " genes (", out.robot->gene_names,
-                                        "), got ", out.meta.genes.size()));
 
     // channels
     if (auto it = top.find("channels"); it != top.end() && !it->second.IsNull()) {
@@ -301,10 +297,10 @@ class SidecarReader {
         if (!unit_node.ok()) return unit_node.status();
         std::string unit;
         if (auto st = String(*unit_node, path + ".unit", &unit); !st.ok()) return st;
-        if (unit != UnitOf(ch))
+        if (unit != out.robot->units.at(ch))
           return Error(*unit_node,
                        absl::StrCat("key '", Quote(path), ".unit': channel '", ch, "' is in ",
-                                    UnitOf(ch), ", not '", Quote(unit), "'"));
+                                    out.robot->units.at(ch), ", not '", Quote(unit), "'"));
         out.meta.channel_units[ch] = unit;
         out.channel_marks[ch] = {chan_keys[ch].Mark().line + 1, chan_keys[ch].Mark().column + 1};
       }
@@ -313,6 +309,25 @@ class SidecarReader {
   }
 
  private:
+  // command.genes of a "gait" command: as many numbers as the robot's controller takes.
+  absl::Status ParseGenes(const YAML::Node& command, const std::map<std::string, YAML::Node>& cmd,
+                          const RobotInfo& robot, RecordingMeta& meta) const {
+    auto genes = Require(command, cmd, "command", "genes");
+    if (!genes.ok()) return genes.status();
+    if (!genes->IsSequence()) return Expected(*genes, "command.genes", "an array of numbers");
+    for (size_t i = 0; i < genes->size(); ++i) {
+      double v;
+      if (auto st = Number((*genes)[i], absl::StrCat("command.genes[", i, "]"), &v); !st.ok())
+        return st;
+      meta.genes.push_back(v);
+    }
+    if (static_cast<int>(meta.genes.size()) != robot.gene_count)
+      return Error(*genes, absl::StrCat("key 'command.genes': the ", robot.name, " takes ",
+                                        robot.gene_count, " genes (", robot.gene_names, "), got ",
+                                        meta.genes.size()));
+    return absl::OkStatus();
+  }
+
   absl::Status Error(const YAML::Node& n, const std::string& what) const {
     return absl::InvalidArgumentError(
         absl::StrCat(name_, ":", n.Mark().line + 1, ":", n.Mark().column + 1, ": ", what));

@@ -9,26 +9,29 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "workers/objectives/acceleration_error.h"
 
 namespace gaitforge::calibration {
 namespace {
 
 absl::Status ParseParams(const objectives::EvalInput& in, int default_settle, CompareSettings& s) {
   std::string error;
-  double settle, shift, timestep_ms, z_weight, min_distance;
+  double settle, shift, timestep_ms, z_weight, min_distance, window;
   if (!objectives::ParamInRange(in, "settle_cycles", 0, 20, default_settle, true, settle, error) ||
       !objectives::ParamInRange(in, "max_shift_samples", 0, 1000, 10, true, shift, error) ||
       !objectives::ParamInRange(in, "timestep_ms", 0.05, 2, 1, false, timestep_ms, error) ||
       !objectives::ParamInRange(in, "z_weight", 0, 100, 1, false, z_weight, error) ||
-      !objectives::ParamInRange(in, "min_distance_m", 1e-6, 1, 1e-3, false, min_distance, error)) {
+      !objectives::ParamInRange(in, "min_distance_m", 1e-6, 1, 1e-3, false, min_distance, error) ||
+      !objectives::ParamInRange(in, "window_s", 0, 1e4, 0, false, window, error)) {
     return absl::InvalidArgumentError(error);
   }
   for (const auto& [name, value] : in.params) {
     if (name != "settle_cycles" && name != "max_shift_samples" && name != "timestep_ms" &&
-        name != "z_weight" && name != "min_distance_m") {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "unknown param ", name,
-          " (known: settle_cycles, max_shift_samples, timestep_ms, z_weight, min_distance_m)"));
+        name != "z_weight" && name != "min_distance_m" && name != "window_s") {
+      return absl::InvalidArgumentError(
+          absl::StrCat("unknown param ", name,
+                       " (known: settle_cycles, max_shift_samples, timestep_ms, z_weight, "
+                       "min_distance_m, window_s)"));
     }
   }
   s.settle_cycles = static_cast<int>(settle);
@@ -36,6 +39,7 @@ absl::Status ParseParams(const objectives::EvalInput& in, int default_settle, Co
   s.timestep_s = in.params.count("timestep_ms") ? timestep_ms * 1e-3 : 0;
   s.z_weight = z_weight;
   s.min_distance_m = min_distance;
+  s.window_s = window;
   return absl::OkStatus();
 }
 
@@ -243,6 +247,75 @@ absl::Status Stats(Context& c) {
   return absl::OkStatus();
 }
 
+// The compared channels as points: channels "<name>.x/.y/.z" of one name make one point's
+// vector, any other channel is a point of its own.
+std::vector<std::vector<Channel>> Points(const std::vector<Channel>& channels) {
+  std::vector<std::vector<Channel>> points;
+  std::vector<std::string> names;
+  for (const Channel& ch : channels) {
+    const std::string name = ch.axis >= 0 ? ch.name.substr(0, ch.name.size() - 2) : ch.name;
+    const auto at = std::find(names.begin(), names.end(), name);
+    if (ch.axis >= 0 && at != names.end()) {
+      points[at - names.begin()].push_back(ch);
+    } else {
+      names.push_back(ch.axis >= 0 ? name : "");  // a non-position channel joins no other
+      points.push_back({ch});
+    }
+  }
+  return points;
+}
+
+// error = acceleration (CompareRecording): both sides on the recording's regular grid
+// t_k = t_0 + k dt, through the same Savitzky-Golay filter.
+absl::Status Accelerations(Context& c) {
+  const double t0 = c.rec.t.front();
+  const int64_t n = std::llround((c.rec.t.back() - t0) / c.dt) + 1;
+  int64_t end = n - kSavitzkyGolayHalfWindow;
+  if (c.s.window_s > 0) end = std::min<int64_t>(end, std::llround(c.s.window_s / c.dt) + 1);
+  const int64_t begin = kSavitzkyGolayHalfWindow;
+  if (end - begin < 1)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "error = acceleration compares samples with ", kSavitzkyGolayHalfWindow,
+        " recorded samples on either side (the filter's window), and ",
+        c.s.window_s > 0 ? absl::StrCat("window_s = ", c.s.window_s, " s") : "the recording",
+        " at ", c.dt, " s intervals holds none: at least ", (kSavitzkyGolayHalfWindow + 1) * c.dt,
+        " s of a recording of at least ", 2 * kSavitzkyGolayHalfWindow + 1, " samples"));
+  const auto points = Points(c.channels);
+  const auto accelerations = [&](bool simulated, double shift_s) {
+    std::vector<Vectors> out;
+    std::vector<double> x(n);
+    for (const auto& point : points) {
+      Vectors v;
+      for (const Channel& ch : point) {
+        for (int64_t k = 0; k < n; ++k) {
+          const double t = t0 + static_cast<double>(k) * c.dt;
+          x[k] = simulated ? Interpolate(c.sim.t, c.sim.columns[ch.sim], t + c.offset + shift_s)
+                           : Interpolate(c.rec.t, c.rec.columns[ch.column], t);
+        }
+        v.push_back(SavitzkyGolaySecondDerivative(x, c.dt));
+      }
+      out.push_back(std::move(v));
+    }
+    return out;
+  };
+  const std::vector<Vectors> real = accelerations(false, 0);
+  double best = -1;
+  for (int shift = -c.s.max_shift; shift <= c.s.max_shift; ++shift) {
+    const double e = RelativeAccelerationError(c.s.metric, real, accelerations(true, shift * c.dt),
+                                               begin, end);
+    if (e < 0)
+      return absl::InvalidArgumentError(
+          "error = acceleration: the recorded accelerations are all zero in the window");
+    if (best < 0 || e < best || (e == best && std::abs(shift) < std::abs(c.out.shift))) {
+      best = e;
+      c.out.shift = shift;
+    }
+  }
+  c.out.error = best;
+  c.out.time_shift_s = c.out.shift * c.dt;
+  return absl::OkStatus();
+}
+
 absl::Status CheckShape(const recording::Recording& rec) {
   if (rec.t.size() < 2) return absl::InvalidArgumentError("fewer than 2 samples");
   if (rec.columns.size() != rec.channels.size())
@@ -272,9 +345,10 @@ absl::StatusOr<CompareSettings> ParseCompareSettings(const objectives::EvalInput
       if (value == "shape") s.mode = Mode::kShape;
       else if (value == "pointwise") s.mode = Mode::kPointwise;
       else if (value == "stats") s.mode = Mode::kStats;
+      else if (value == "acceleration") s.mode = Mode::kAcceleration;
       else
-        return absl::InvalidArgumentError(
-            absl::StrCat("option error = '", value, "' is not one of shape, pointwise, stats"));
+        return absl::InvalidArgumentError(absl::StrCat(
+            "option error = '", value, "' is not one of shape, pointwise, stats, acceleration"));
     } else if (name == "metric") {
       auto m = ParseMetric(value);
       if (!m.ok()) return absl::InvalidArgumentError(absl::StrCat("option ", m.status().message()));
@@ -299,25 +373,38 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
   const double dt = rec.dt > 0 ? rec.dt : (rec.t.back() - rec.t.front()) / (n - 1);
   if (!(dt > 0) || !std::isfinite(dt)) return absl::InvalidArgumentError("no sampling interval");
   // The simulated run: from rest, to past the recording's end.
-  const double settle_t = s.settle_cycles * period;
-  const double last = rec.t.back() + offset;
+  const bool periodic = period > 0;
+  if (!periodic && (s.mode == Mode::kShape || s.mode == Mode::kStats))
+    return absl::InvalidArgumentError(
+        "error = shape and stats average over gait cycles: a command that does not repeat (a "
+        "playback) compares with error = pointwise or acceleration");
+  const double settle_t = periodic ? s.settle_cycles * period : 0;
+  double last = rec.t.back() + offset;
+  if (s.mode == Mode::kAcceleration && s.window_s > 0)  // what the window compares
+    last = std::min(last, rec.t.front() + s.window_s + offset);
   if (last <= settle_t)
     return absl::InvalidArgumentError(absl::StrCat("the recording ends at simulated time ", last,
                                                    " s, within the ", s.settle_cycles,
                                                    " settle cycles of ", period, " s"));
-  const double cycles = std::ceil((last + (s.max_shift + 2) * dt + period) / period);
-  if (cycles > 1e6) return absl::InvalidArgumentError("the recording spans over 1e6 gait cycles");
+  const int margin = s.mode == Mode::kAcceleration ? kSavitzkyGolayHalfWindow : 0;
+  double duration = last + (s.max_shift + 2 + margin) * dt;
+  if (periodic) {
+    const double cycles = std::ceil((duration + period) / period);
+    if (cycles > 1e6) return absl::InvalidArgumentError("the recording spans over 1e6 gait cycles");
+    duration = cycles * period;
+  }
   // Samples at the recording's interval, or finer by a whole factor when it spans at least
   // two timesteps per sample (less interpolation error; the recorded times stay on the grid).
   const int oversample = std::max(1, static_cast<int>(std::floor(dt / (2 * s.timestep_s) + 1e-9)));
-  const SimRun run = simulate(static_cast<int>(cycles), oversample / dt);
+  const SimRun run = simulate(duration, oversample / dt);
   if (!run.valid) return absl::AbortedError(absl::StrCat("simulation: ", run.reason));
   const Trajectory& sim = run.trajectory;
   if (sim.t.size() < 2) return absl::InternalError("the simulation recorded no samples");
   auto channels = ChosenChannels(rec, sim, s);
   if (!channels.ok()) return channels.status();
-  const int bins = BinsPerPeriod(period, dt);
-  auto [kb, ke] = WholeCycles(rec.t.front(), rec.t.back(), period, bins, -offset);
+  const int bins = periodic ? BinsPerPeriod(period, dt) : 0;
+  auto [kb, ke] = periodic ? WholeCycles(rec.t.front(), rec.t.back(), period, bins, -offset)
+                           : std::pair<int64_t, int64_t>{0, 0};
   Context c{rec, sim, s, std::move(*channels), {}, period, offset, dt, settle_t, bins,
             std::max<int64_t>(kb, s.settle_cycles), ke, {}};
   c.out.simulated_s = run.simulated_s;
@@ -326,6 +413,10 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
     const int at = sim.Index(rec.channels[k]);
     if (at >= 0 && AxisOf(rec.channels[k]) == 0)
       c.x_channels.push_back({rec.channels[k], static_cast<int>(k), at, 0});
+  }
+  if (s.mode == Mode::kAcceleration) {
+    if (auto st = Accelerations(c); !st.ok()) return st;
+    return c.out;
   }
   if (s.mode == Mode::kStats) {
     if (auto st = Stats(c); !st.ok()) return st;
@@ -399,6 +490,7 @@ objectives::EvalResult CompareAll(
     if (offset_count[a] > 0) r.metrics[axis_names[a]] = offset_sum[a] / offset_count[a];
   const double error = sum / weight_sum;
   r.metrics["error"] = error;
+  if (s.mode == Mode::kAcceleration) r.metrics["acceleration_fitness"] = 1 - error;  // paper 004's F
   r.metrics["simulated_s"] = simulated;
   r.valid = true;
   r.fitness = -error;

@@ -24,7 +24,7 @@ namespace gaitforge::calibration {
 
 inline constexpr char kTimeOffsetGene[] = "nuisance.time_offset_s";
 
-enum class Mode { kShape, kPointwise, kStats };
+enum class Mode { kShape, kPointwise, kStats, kAcceleration };
 
 struct CompareSettings {
   Mode mode = Mode::kShape;
@@ -35,11 +35,12 @@ struct CompareSettings {
   double timestep_s = 0;
   double z_weight = 1;
   double min_distance_m = 1e-3;
+  double window_s = 0;  // error = acceleration: compare the first window_s of each recording (0: all)
   std::vector<double> weights;  // per recording; empty: equal
 };
 
 // The objective's params (settle_cycles, max_shift_samples, timestep_ms, z_weight,
-// min_distance_m) and options (error, metric, channels, weights), each checked against its
+// min_distance_m, window_s) and options (error, metric, channels, weights), each checked against its
 // range; `known_channels` are the channels the robot can give (option channels must be
 // among them). `timestep_s` stays 0 unless the param timestep_ms is given.
 absl::StatusOr<CompareSettings> ParseCompareSettings(const objectives::EvalInput& in,
@@ -62,9 +63,9 @@ struct SimRun {
   Trajectory trajectory;
 };
 
-// Runs the recording's command from rest for `cycles` gait periods, sampling every channel
-// at rate_hz (a whole number of timesteps per sample).
-using Simulator = std::function<SimRun(int cycles, double rate_hz)>;
+// Runs the recording's command from rest for at least duration_s (a gait: whole periods),
+// sampling every channel at rate_hz (a whole number of timesteps per sample).
+using Simulator = std::function<SimRun(double duration_s, double rate_hz)>;
 
 // What one recording gives.
 struct Comparison {
@@ -80,7 +81,16 @@ struct Comparison {
 };
 
 // Compares one recording of a command with period `period_s` (recording time t is
-// simulated time t + offset_s). The simulator runs once, with s.timestep_s steps.
+// simulated time t + offset_s); period_s = 0 for a command that does not repeat (a
+// playback), which error = shape and stats cannot compare and settle_cycles does not
+// apply to. The simulator runs once, with s.timestep_s steps.
+//
+// error = acceleration (paper 004): the error is RelativeAccelerationError
+// (acceleration_error.h) between the Savitzky-Golay accelerations of the recorded and the
+// simulated channels on the recording's regular grid, channels .x/.y/.z of one name making
+// one point's vector, over the recording's first window_s (all of it when 0; the first and
+// last 4 samples have no centred filter window), minimised over time shifts of up to
+// max_shift_samples intervals; 1 - error is the paper's F.
 absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, double period_s,
                                             double offset_s, const CompareSettings& s,
                                             const Simulator& simulate);

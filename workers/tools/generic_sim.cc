@@ -13,6 +13,8 @@
 #include "services/recording/recording.h"
 #include "workers/models/generic/generic_calibration.h"
 #include "workers/models/generic/generic_gait.h"
+#include "workers/models/generic/generic_playback.h"
+#include "workers/objectives/calibration_error.h"
 #include "workers/models/mujoco/mujoco_world.h"
 #include "workers/objectives/recording_comparison.h"
 #include "workers/sim/ode_runtime.h"
@@ -73,6 +75,38 @@ absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>&
                        run.overrides);
 }
 
+absl::Status GenericPlayback(const GenericRun& run, const std::string& inputs,
+                             const std::string& out) {
+  const robots::RobotDescriptor& d = *run.robot;
+  std::ifstream in(inputs, std::ios::binary);
+  if (!in) return absl::NotFoundError(absl::StrCat("--inputs: cannot read ", inputs));
+  std::stringstream csv;
+  csv << in.rdbuf();
+  const std::string sidecar =
+      absl::StrCat("{\"robot\": \"", JsonEscape(d.name), "\", \"command\": {\"kind\": \"playback\"}}");
+  auto rec = recording::ParseRecording(csv.str(), sidecar, inputs, inputs + " (a playback)", {},
+                                       run.robot);
+  if (!rec.ok()) return rec.status();
+  auto values = Values(run);
+  if (!values.ok()) return values.status();
+  double offset = 0;
+  for (const auto& [name, value] : run.overrides)
+    if (name == calibration::kTimeOffsetGene) offset = value;
+  sim::InitThread();
+  auto sim = generic::SimulatePlayback(d, *values, *rec, offset, rec->t.back() + offset + 1e-9,
+                                       run.rate_hz);
+  if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
+  calibration::Trajectory& tr = sim.trajectory;
+  for (const std::string& input : d.InputChannels()) {
+    const int c = rec->ChannelIndex(input);
+    tr.channels.push_back(input);
+    tr.columns.emplace_back();
+    for (double t : tr.t) tr.columns.back().push_back(calibration::Interpolate(rec->t, rec->columns[c], t - offset));
+  }
+  return WriteChannels(tr, out, d.name, run.robot_path, {}, "simulated by gaitforge-sim (playback)",
+                       run.overrides, true);
+}
+
 absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,
                                                    const std::string& recordings,
                                                    const std::map<std::string, std::string>& options,
@@ -114,12 +148,16 @@ absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,
                     r.valid ? "true" : "false", ", \"reason\": \"", JsonEscape(r.reason),
                     "\", \"metrics\": {", MetricsJson(r), "}");
     if (!out_dir.empty() && r.valid) {
-      // The recording's gait with the same overrides, channels over the recording's span.
+      // The recording's command with the same overrides, channels over the recording's span.
+      const bool playback = rec->meta.command_kind == "playback";
       const double period =
-          robots::FindControllerKind(run.robot->controller.kind)->period_s(rec->meta.genes);
-      const int cycles = static_cast<int>(std::ceil((rec->t.back() + 0.5) / period)) + 1;
-      const auto sim = generic::SimulateChannels(*run.robot, *values, rec->meta.genes, cycles,
-                                                 run.rate_hz);
+          playback ? 0 : robots::FindControllerKind(run.robot->controller.kind)->period_s(rec->meta.genes);
+      const auto sim =
+          playback ? generic::SimulatePlayback(*run.robot, *values, *rec, offset, rec->t.back() + offset,
+                                               run.rate_hz)
+                   : generic::SimulateChannels(
+                         *run.robot, *values, rec->meta.genes,
+                         static_cast<int>(std::ceil((rec->t.back() + 0.5) / period)) + 1, run.rate_hz);
       if (sim.valid) {
         const std::string sim_path = absl::StrCat(out_dir, "/sim-", i, ".csv");
         if (auto s = WriteChannels(sim.trajectory, sim_path, run.robot->name, run.robot_path,

@@ -30,6 +30,13 @@ struct GenericRun {
 absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>& genes,
                                const std::string& out);
 
+// The robot driven from rest by the input columns of `inputs` (a CSV of t and every
+// actuator's input channel, robots::Actuator::InputChannel; checked as a recording is) until
+// its last time, its channels and the inputs at rate_hz written as a playback recording at
+// `out` with its sidecar (docs/recording-format.md).
+absl::Status GenericPlayback(const GenericRun& run, const std::string& inputs,
+                             const std::string& out);
+
 // For each recording (comma-separated CSV paths with sidecars): robot.calibration's error and
 // metrics with the overrides as genes, and (with out_dir) the simulated channels of the
 // recording's gait as out_dir/sim-<i>.csv. Returns JSON, as CalibrationEval does.

@@ -39,7 +39,7 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
 }
 
 struct Args {
-  std::string cmd, robot, genes, out, set, recordings, options, params, out_dir, engine;
+  std::string cmd, robot, genes, out, set, recordings, options, params, out_dir, engine, inputs;
   std::string scales, periods;
   double rate = 100;
   int cycles = 10, settle = 2, threads = 1;
@@ -106,6 +106,13 @@ int Run(const Args& a) {
   run.overrides = *overrides;
   sim::InitProcess();
   if (a.cmd == "period-sweep" || a.cmd == "wave") return RunSweep(a, run);
+  if (a.cmd == "trajectory" && !a.inputs.empty()) {
+    if (a.out.empty()) return Fail(absl::InvalidArgumentError("trajectory needs --out FILE.csv"), 2);
+    if (auto s = simtool::GenericPlayback(run, a.inputs, a.out); !s.ok())
+      return Fail(s, s.code() == absl::StatusCode::kAborted ? 1 : 2);
+    std::cout << a.out << "\n";
+    return 0;
+  }
   if (a.cmd == "trajectory") {
     auto genes = simtool::ParseGenes(a.genes, run.robot->controller.genes.size());
     if (!genes.ok()) return Fail(genes.status(), 2);
@@ -142,7 +149,8 @@ int main(int argc, char** argv) {
       "One-shot simulations of a robot on the generic builder (--robot; the caterpillar by\n"
       "default), with the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: the robot's channels over settle + measured\n"
-      "                cycles from rest, as a recording CSV (+ .json)\n"
+      "                cycles from rest, as a recording CSV (+ .json); or --inputs IN.csv\n"
+      "                --out FILE.csv: driven by recorded actuator inputs (a playback)\n"
       "  period-sweep  --genes G: distance per cycle with the period scaled (--scales), JSON\n"
       "  wave          paper 000's travelling waves over periods (--periods), JSON\n"
       "  calibration-eval  --recordings A.csv,B.csv [--set ...]: the calibration objective's\n"
@@ -157,6 +165,9 @@ int main(int argc, char** argv) {
   flags.Add("genes", &a.genes, "the controller's genes, comma separated (the caterpillar: 13, "
                                "a_T1..a_B3 d_T1..d_B3 T)");
   flags.Add("out", &a.out, "trajectory: CSV file to write");
+  flags.Add("inputs", &a.inputs,
+            "trajectory: a CSV of t and every actuator's input (rod1.force, ...) that drives the "
+            "robot instead of --genes; writes a playback recording");
   flags.Add("rate", &a.rate, "trajectory, calibration-eval: sampling rate, Hz (1..10000)");
   flags.Add("cycles", &a.cycles, "measured gait cycles (1..200)");
   flags.Add("settle", &a.settle, "gait cycles from rest before measuring (0..50)");
@@ -167,7 +178,7 @@ int main(int argc, char** argv) {
             "parameter overrides NAME=VALUE,... (names: docs/objectives.md, e.g. "
             "actuators.force_n, scale.link_stiffness); applied in order");
   flags.Add("recordings", &a.recordings, "calibration-eval: recording CSVs, comma separated");
-  flags.Add("error", &error_kind, "calibration-eval: shape, pointwise or stats (default shape)");
+  flags.Add("error", &error_kind, "calibration-eval: shape, pointwise, stats or acceleration (default shape)");
   flags.Add("metric", &metric, "calibration-eval: rmse or mae (default rmse)");
   flags.Add("max-shift", &max_shift, "calibration-eval: max_shift_samples, 0..1000 (default 10)");
   flags.Add("options", &a.options,

@@ -53,7 +53,8 @@ void ParallelFor(int n, int threads, F fn) {
 absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string& csv_path,
                            const std::string& robot, const std::string& params_path,
                            const std::vector<double>& genes, const std::string& note,
-                           const std::vector<std::pair<std::string, double>>& overrides) {
+                           const std::vector<std::pair<std::string, double>>& overrides,
+                           bool playback) {
   std::ofstream csv(csv_path);
   if (!csv) return absl::UnavailableError(absl::StrCat("cannot write ", csv_path));
   csv << "t";
@@ -66,9 +67,14 @@ absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string&
   }
   std::ofstream side(csv_path + ".json");
   side << "{\n  \"robot\": \"" << JsonEscape(robot) << "\",\n  \"parameters\": \""
-       << JsonEscape(params_path) << "\",\n  \"command\": {\"kind\": \"gait\", \"genes\": [";
-  for (size_t i = 0; i < genes.size(); ++i) side << (i ? ", " : "") << absl::StrFormat("%.17g", genes[i]);
-  side << "]},\n";
+       << JsonEscape(params_path) << "\",\n  \"command\": ";
+  if (playback) {
+    side << "{\"kind\": \"playback\"},\n";
+  } else {
+    side << "{\"kind\": \"gait\", \"genes\": [";
+    for (size_t i = 0; i < genes.size(); ++i) side << (i ? ", " : "") << absl::StrFormat("%.17g", genes[i]);
+    side << "]},\n";
+  }
   if (!overrides.empty()) {
     side << "  \"overrides\": {";
     for (size_t i = 0; i < overrides.size(); ++i)

@@ -14,10 +14,12 @@ namespace gaitforge::simtool {
 
 // Writes channels as a recording CSV (docs/recording-format.md: t, then the channels) and its
 // JSON sidecar (robot, parameter file, the gait command, overrides).
+// `playback`: the command is a playback (the input columns are among tr's), not a gait.
 absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string& csv_path,
                            const std::string& robot, const std::string& params_path,
                            const std::vector<double>& genes, const std::string& note,
-                           const std::vector<std::pair<std::string, double>>& overrides = {});
+                           const std::vector<std::pair<std::string, double>>& overrides = {},
+                           bool playback = false);
 
 // `s` escaped for a JSON string.
 std::string JsonEscape(const std::string& s);

@@ -27,6 +27,18 @@ absl::Status ValidateGaConfig(const GaConfig& c) {
   if (!(c.mutation_rate >= 0.0 && c.mutation_rate <= 1.0))
     return absl::InvalidArgumentError(
         absl::StrCat("ga.mutation_rate = ", c.mutation_rate, " is out of range [0, 1]"));
+  if (c.selection != "roulette" && c.selection != "tournament")
+    return absl::InvalidArgumentError(
+        absl::StrCat("ga.selection = '", c.selection, "' is not one of roulette, tournament"));
+  if (c.crossover != "one_point" && c.crossover != "blend")
+    return absl::InvalidArgumentError(
+        absl::StrCat("ga.crossover = '", c.crossover, "' is not one of one_point, blend"));
+  if (c.mutation != "reinit" && c.mutation != "gaussian")
+    return absl::InvalidArgumentError(
+        absl::StrCat("ga.mutation = '", c.mutation, "' is not one of reinit, gaussian"));
+  if (c.stop_fitness && !std::isfinite(*c.stop_fitness))
+    return absl::InvalidArgumentError(
+        absl::StrCat("ga.stop_fitness = ", *c.stop_fitness, " is not a finite number"));
   if (c.bounds.size() == 0 || c.bounds.lo.size() != c.bounds.hi.size())
     return absl::InvalidArgumentError("bounds: at least one gene with lo and hi is required");
   for (size_t i = 0; i < c.bounds.size(); ++i) {
@@ -60,6 +72,19 @@ void GaEngine::InitialPopulation() {
       c.genes[i] = rng.Uniform(config_.bounds.lo[i], config_.bounds.hi[i]);
     candidates_.push_back(std::move(c));
   }
+}
+
+bool GaEngine::ReachedStopFitness(const std::vector<Ranked>& hof) const {
+  if (!config_.stop_fitness || hof.empty()) return false;
+  const Evaluation& best = hof.front().eval;
+  return best.valid && best.violation <= 0.0 && best.fitness >= *config_.stop_fitness;
+}
+
+std::string GaEngine::StopReason() const {
+  if (ReachedStopFitness(hof_))
+    return absl::StrCat("GA reached stop_fitness ", *config_.stop_fitness, " in generation ",
+                        generation_ - 1);
+  return "";
 }
 
 int GaEngine::CrossoverPoint(int g) const {
@@ -118,22 +143,34 @@ void GaEngine::Breed(const std::vector<Evaluation>& evals, const std::vector<int
     c.origin_generation = parent.origin_generation;
     c.origin_member = parent.origin_member;
   }
-  const std::vector<double> cumulative = Cumulative(RouletteWeights(evals));
-  const int n = CrossoverPoint(g);
+  const bool roulette = config_.selection == "roulette", blend = config_.crossover == "blend";
+  const std::vector<double> cumulative = roulette ? Cumulative(RouletteWeights(evals)) : std::vector<double>();
+  const int n = blend ? 0 : CrossoverPoint(g);
   for (int first = config_.elite; first < config_.population; first += 2) {
     KeyedRng select(config_.seed, g, first, Purpose::kSelect);
-    const auto& pa = candidates_[RouletteSelectCumulative(cumulative, select)].genes;
-    const auto& pb = candidates_[RouletteSelectCumulative(cumulative, select)].genes;
+    const auto pick = [&] {
+      return roulette ? RouletteSelectCumulative(cumulative, select)
+                      : TournamentSelect(evals, kTournamentSize, select);
+    };
+    std::vector<double> a = candidates_[pick()].genes;
+    std::vector<double> b = candidates_[pick()].genes;
+    if (blend) {
+      KeyedRng cross(config_.seed, g, first, Purpose::kCrossover);
+      BlendCrossover(a, b, config_.bounds, kBlendRate, kBlendAlpha, cross);
+    } else {
+      // Child 0 takes b's first n genes and a's rest; child 1 the other way round.
+      SwapPrefix(a, b, n);
+    }
     for (int k = 0; k < 2 && first + k < config_.population; ++k) {
       Candidate& c = next[first + k];
       c.member = first + k;
-      // Child 0 takes b's first n genes and a's rest; child 1 the other way round.
-      const auto& head = k == 0 ? pb : pa;
-      const auto& tail = k == 0 ? pa : pb;
-      c.genes.assign(tail.begin(), tail.end());
-      std::copy(head.begin(), head.begin() + n, c.genes.begin());
+      c.genes = k == 0 ? a : b;
       KeyedRng mutate(config_.seed, g, c.member, Purpose::kMutate);
-      MutateReinit(c.genes, config_.bounds, config_.mutation_rate, mutate);
+      if (config_.mutation == "gaussian") {
+        MutateGaussian(c.genes, config_.bounds, config_.mutation_rate, kGaussianSdFraction, mutate);
+      } else {
+        MutateReinit(c.genes, config_.bounds, config_.mutation_rate, mutate);
+      }
       c.known.reset();
       c.origin_generation = g;
       c.origin_member = c.member;
@@ -209,7 +246,8 @@ absl::Status GaEngine::LoadState(std::string_view state) {
         candidates[m].genes.size() != c.bounds.size())
       return absl::DataLossError("GA state: malformed population");
   }
-  if (generation < c.generations && candidates.size() != static_cast<size_t>(c.population))
+  if (generation < c.generations && !ReachedStopFitness(hof) &&
+      candidates.size() != static_cast<size_t>(c.population))
     return absl::DataLossError("GA state: population size does not match");
   generation_ = generation;
   candidates_ = std::move(candidates);

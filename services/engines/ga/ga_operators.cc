@@ -1,6 +1,7 @@
 #include "services/engines/ga/ga_operators.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cassert>
 #include <limits>
 
@@ -79,6 +80,39 @@ int MutateReinit(std::vector<double>& genes, const Bounds& bounds, double rate,
   for (size_t i = 0; i < genes.size(); ++i) {
     if (rng.Uniform01() < rate) {
       genes[i] = rng.Uniform(bounds.lo[i], bounds.hi[i]);
+      ++changed;
+    }
+  }
+  return changed;
+}
+
+int TournamentSelect(const std::vector<Evaluation>& evals, int size, core::KeyedRng& rng) {
+  const int n = static_cast<int>(evals.size());
+  int best = -1;
+  for (int k = 0; k < std::max(1, size); ++k) {
+    const int pick = std::min(n - 1, static_cast<int>(rng.Uniform01() * n));
+    if (best < 0 || RanksBefore(evals[pick], pick, evals[best], best)) best = pick;
+  }
+  return best;
+}
+
+void BlendCrossover(std::vector<double>& a, std::vector<double>& b, const Bounds& bounds,
+                    double rate, double alpha, core::KeyedRng& rng) {
+  if (!(rng.Uniform01() < rate)) return;
+  for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    const double x = a[i], y = bounds.Near(i, b[i], a[i]);
+    const double d = std::fabs(x - y), lo = std::min(x, y) - alpha * d, hi = std::max(x, y) + alpha * d;
+    a[i] = bounds.Fold(i, d > 0 ? rng.Uniform(lo, hi) : x);
+    b[i] = bounds.Fold(i, d > 0 ? rng.Uniform(lo, hi) : y);
+  }
+}
+
+int MutateGaussian(std::vector<double>& genes, const Bounds& bounds, double rate,
+                   double sd_fraction, core::KeyedRng& rng) {
+  int changed = 0;
+  for (size_t i = 0; i < genes.size(); ++i) {
+    if (rng.Uniform01() < rate) {
+      genes[i] = bounds.Fold(i, genes[i] + sd_fraction * (bounds.hi[i] - bounds.lo[i]) * rng.Normal());
       ++changed;
     }
   }

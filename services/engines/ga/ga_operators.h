@@ -36,4 +36,25 @@ void SwapPrefix(std::vector<double>& a, std::vector<double>& b, int n);
 int MutateReinit(std::vector<double>& genes, const Bounds& bounds, double rate,
                  core::KeyedRng& rng);
 
+// Paper 004's real-coded operators (its arm's fact sheet: tournament of 3, blend crossover
+// at rate 0.8, mutation 0.1), the GA's `selection: tournament`, `crossover: blend` and
+// `mutation: gaussian`.
+
+// The best of `size` members drawn uniformly with replacement (RanksBefore decides; a tie
+// keeps the earlier draw). One number per draw.
+int TournamentSelect(const std::vector<Evaluation>& evals, int size, core::KeyedRng& rng);
+
+// BLX-alpha: with probability `rate` (one decision number) each gene of both children is a
+// fresh uniform draw in [min - alpha d, max + alpha d] of the parents' values (d = |a - b|,
+// on a circular gene the shorter way round), brought into range by Bounds::Fold; otherwise
+// the children are the parents.
+void BlendCrossover(std::vector<double>& a, std::vector<double>& b, const Bounds& bounds,
+                    double rate, double alpha, core::KeyedRng& rng);
+
+// Each gene, independently with probability `rate`, moves by a normal step of sd
+// `sd_fraction` of its range, brought into range by Bounds::Fold. Per gene one decision
+// number and, only when it mutates, one normal draw. Returns how many genes changed.
+int MutateGaussian(std::vector<double>& genes, const Bounds& bounds, double rate,
+                   double sd_fraction, core::KeyedRng& rng);
+
 }  // namespace gaitforge::engines::ga

@@ -7,6 +7,7 @@
 #include "robots/controllers.h"
 #include "robots/registry.h"
 #include "workers/models/generic/generic_gait.h"
+#include "workers/models/generic/generic_playback.h"
 #include "workers/objectives/recording_comparison.h"
 #include "workers/sim/ode_runtime.h"
 
@@ -20,6 +21,10 @@ absl::StatusOr<calibration::Comparison> Compare(const robots::RobotDescriptor& d
   if (rec.meta.robot != d.name)
     return absl::InvalidArgumentError(
         absl::StrCat("a recording of robot '", rec.meta.robot, "', not ", d.name));
+  if (rec.meta.command_kind == "playback")
+    return calibration::CompareRecording(rec, 0, offset, s, [&](double duration, double rate_hz) {
+      return SimulatePlayback(d, values, rec, offset, duration, rate_hz, s.timestep_s);
+    });
   if (rec.meta.genes.size() != d.controller.genes.size())
     return absl::InvalidArgumentError(absl::StrCat("meta.genes: ", d.name, " takes ",
                                                    d.controller.genes.size(), " genes, got ",
@@ -27,7 +32,8 @@ absl::StatusOr<calibration::Comparison> Compare(const robots::RobotDescriptor& d
   const double period = robots::FindControllerKind(d.controller.kind)->period_s(rec.meta.genes);
   if (!(period > 0) || !std::isfinite(period))
     return absl::InvalidArgumentError(absl::StrCat("meta.genes give a gait period of ", period, " s"));
-  return calibration::CompareRecording(rec, period, offset, s, [&](int cycles, double rate_hz) {
+  return calibration::CompareRecording(rec, period, offset, s, [&](double duration, double rate_hz) {
+    const int cycles = static_cast<int>(std::llround(duration / period));
     return SimulateChannels(d, values, rec.meta.genes, cycles, rate_hz, s.timestep_s);
   });
 }

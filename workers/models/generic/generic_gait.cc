@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "robots/controllers.h"
+#include "workers/models/generic/generic_run.h"
 
 namespace gaitforge::generic {
 
@@ -90,9 +91,8 @@ class DelayedCommands {
   double frac_ = 0;
 };
 
-// Runs the gait from rest for `steps` steps, calling `each(world)` before every step and
-// once after the last; false (with the reason and time in r) when it diverges.
-// The controller runs `time_offset_s` ahead of the world (a start phase).
+// Runs the gait from rest (RunWorld). The controller runs `time_offset_s` ahead of the
+// world (a start phase).
 bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vector<double>& genes,
          double timestep_s, double time_offset_s, const WorldBuilder& engine,
          const std::function<int64_t(const RobotWorld&)>& steps,
@@ -102,38 +102,17 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
     *reason = std::string(first.status().message());
     return false;
   }
-  absl::StatusOr<std::unique_ptr<RobotWorld>> world;
-  if (engine) {
-    world = engine(d, v, timestep_s);
-  } else if (auto ode = GenericWorld::Build(d, v, timestep_s); ode.ok()) {
-    world = std::unique_ptr<RobotWorld>(std::move(*ode));
-  } else {
-    world = ode.status();
-  }
-  if (!world.ok()) {
-    *reason = std::string(world.status().message());
-    return false;
-  }
-  RobotWorld& w = **world;
-  const DelayedCommands delayed(*robots::FindControllerKind(d.controller.kind),
-                                v.Effect("effect.actuator_delay_s"), w.timestep());
-  const int64_t total = steps(w);
   robots::ControllerRun controller(d.controller, genes);
   const DescriptorOrder order(d);
-  std::vector<double> commands;
-  for (int64_t i = 0; i < total; ++i) {
-    each(w, i);
-    order.Place(delayed.At(controller, i, time_offset_s, d.controller.actuators.size()), commands);
-    const sim::SimOutcome out = w.Step(commands);
-    if (!out.ok) {
-      *reason = out.reason;
-      *simulated_s = w.time();
-      return false;
-    }
-  }
-  each(w, total);
-  *simulated_s = w.time();
-  return true;
+  const auto source = [&](const RobotWorld& w) -> Source {
+    auto delayed = std::make_shared<DelayedCommands>(
+        *robots::FindControllerKind(d.controller.kind), v.Effect("effect.actuator_delay_s"),
+        w.timestep());
+    return [&, delayed](int64_t i, std::vector<double>& out) {
+      order.Place(delayed->At(controller, i, time_offset_s, d.controller.actuators.size()), out);
+    };
+  };
+  return RunWorld(d, v, timestep_s, engine, steps, each, source, reason, simulated_s);
 }
 
 }  // namespace

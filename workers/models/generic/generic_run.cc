@@ -1,0 +1,42 @@
+// Running a generic robot from rest under a command source (generic_run.h).
+#include "workers/models/generic/generic_run.h"
+
+namespace gaitforge::generic {
+
+bool RunWorld(const robots::RobotDescriptor& d, const ParamValues& v, double timestep_s,
+              const WorldBuilder& engine, const std::function<int64_t(const RobotWorld&)>& steps,
+              const std::function<void(const RobotWorld&, int64_t)>& each,
+              const std::function<Source(const RobotWorld&)>& source, std::string* reason,
+              double* simulated_s) {
+  absl::StatusOr<std::unique_ptr<RobotWorld>> world;
+  if (engine) {
+    world = engine(d, v, timestep_s);
+  } else if (auto ode = GenericWorld::Build(d, v, timestep_s); ode.ok()) {
+    world = std::unique_ptr<RobotWorld>(std::move(*ode));
+  } else {
+    world = ode.status();
+  }
+  if (!world.ok()) {
+    *reason = std::string(world.status().message());
+    return false;
+  }
+  RobotWorld& w = **world;
+  const int64_t total = steps(w);
+  const Source commands_of = source(w);
+  std::vector<double> commands;
+  for (int64_t i = 0; i < total; ++i) {
+    each(w, i);
+    commands_of(i, commands);
+    const sim::SimOutcome out = w.Step(commands);
+    if (!out.ok) {
+      *reason = out.reason;
+      *simulated_s = w.time();
+      return false;
+    }
+  }
+  each(w, total);
+  *simulated_s = w.time();
+  return true;
+}
+
+}  // namespace gaitforge::generic
