@@ -217,6 +217,41 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "decrement, as paper 001 measured its knees): damping sets the decay, "
        "stiffness the frequency; or run one gait at two periods: a damping error grows "
        "with the stroke rate, a stiffness error does not."},
+      {"joint.softening",
+       "Bending joints softening with bend",
+       "A continuum arm's backbone yields as it bends (paper 004: the fitted stiffness falls "
+       "with |psi|, near yield): each bending joint's spring torque per axis "
+       "k psi / sqrt(1 + (s psi)^2), psi the axis's deflection, tangent stiffness "
+       "k / (1 + (s psi)^2)^(3/2): linear for small bends, saturating at k / s.",
+       {{"effect.joint_softening_per_rad", 0, 10, 0, "1/rad"}},
+       "Small motions match but large bends go further than simulated, and oscillate "
+       "slower there: the error grows with the bend, not with the speed, and the fitted "
+       "constant stiffness falls when recordings of larger bends are added.",
+       "Static tip deflection under a few known loads or rod forces: constant springs give "
+       "a straight load-deflection line, softening bends it (s from its curvature).",
+       "bending_joints"},
+      {"joint.damping_growth",
+       "Bending joints damping more when bent",
+       "Friction between the rods and the disks grows with the bend (paper 004: the fitted "
+       "damping rises with |psi|): each bending joint's damping per axis c (1 + b psi^2).",
+       {{"effect.joint_damping_growth_per_rad2", 0, 100, 0, "1/rad^2"}},
+       "Motions about a straight arm decay as simulated, motions about a bent one decay "
+       "faster: the error grows with the bend in the transients, not in the static shape.",
+       "Pluck the tip at rest straight and held bent by constant rod forces, and compare the "
+       "decays: the logarithmic decrement grows with the bend.",
+       "bending_joints"},
+      {"joint.stiffening",
+       "Bending joints stiffening with speed",
+       "Dynamic stiffening of the backbone (paper 004: the fitted stiffness rises with the "
+       "speed of the motion): each bending joint's spring torque per axis times "
+       "(1 + g |w|), w the axis's bending rate.",
+       {{"effect.joint_stiffening_s_per_rad", 0, 5, 0, "s/rad"}},
+       "Slow motions and the static shape match, fast ones bend less and ring faster than "
+       "simulated: the error grows with the drive's frequency, not with the bend.",
+       "Drive the rods with one amplitude at several frequencies: a stiffening arm's "
+       "amplitude falls and its phase lag shrinks faster with frequency than the constant "
+       "model's.",
+       "bending_joints"},
   };
   return catalog;
 }
@@ -260,6 +295,10 @@ bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
   if (part == "actuators")
     return std::any_of(d.actuators.begin(), d.actuators.end(), [](const robots::Actuator& a) {
       return a.type == "servo" || a.type == "piston";
+    });
+  if (part == "bending_joints")
+    return std::any_of(d.joints.begin(), d.joints.end(), [](const robots::Joint& j) {
+      return j.type == "universal" && (j.stiffness || j.damping);
     });
   if (part == "spring_links")
     return std::any_of(d.joints.begin(), d.joints.end(),

@@ -18,6 +18,7 @@
 //   actuator.lag actuator.delay actuator.force_scale actuator.deadband servo.deadband
 //   contact.softness mass.offset
 //   stiffness.scale spring.softening model.resolution damping.scale
+//   joint.softening joint.damping_growth joint.stiffening
 #include <optional>
 #include <string>
 #include <string_view>
@@ -55,9 +56,11 @@ struct EffectInfo {
 //   servos       every position servo's controller
 //   pistons      every piston (its line between two bodies)
 //   spring_links every spring link of a planar robot
+//   bending_joints every universal joint with a spring or damper (paper 004's arm; hinge
+//                joints do not take these effects yet)
 inline const std::vector<std::string> kParts = {"tether_body", "every_body", "ground",
                                                 "actuators",   "servos",     "pistons",
-                                                "spring_links"};
+                                                "spring_links", "bending_joints"};
 
 // Every effect, in the order of the ids above.
 const std::vector<EffectInfo>& EffectCatalog();

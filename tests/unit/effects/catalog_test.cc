@@ -19,7 +19,8 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
                      "friction.anisotropic", "actuator.lag", "actuator.delay",
                      "actuator.force_scale", "actuator.deadband", "servo.deadband",
                      "contact.softness", "mass.offset", "stiffness.scale", "spring.softening",
-                     "model.resolution", "damping.scale"}));
+                     "model.resolution", "damping.scale", "joint.softening",
+                     "joint.damping_growth", "joint.stiffening"}));
   for (const auto& e : EffectCatalog()) {
     EXPECT_EQ(FindEffect(e.id), &e);
     EXPECT_FALSE(e.name.empty() || e.meaning.empty() || e.where.empty() || e.experiment.empty())

@@ -71,8 +71,11 @@ TEST_F(GenericCalibrationTest, EveryBuilderEffectChangesTheMotionAndZeroIsNoEffe
   const calibration::Signals motion = Motion(nominal);
   int builder_effects = 0;
   for (const auto& e : effects::EffectCatalog()) {
-    // Piston and spring-link effects: tests/unit/generic/caterpillar_port_test.cc.
-    if (e.attaches.empty() || e.attaches == "pistons" || e.attaches == "spring_links") continue;
+    // Piston and spring-link effects: caterpillar_effects_test.cc; bending joints':
+    // arm_effects_test.cc.
+    if (e.attaches.empty() || e.attaches == "pistons" || e.attaches == "spring_links" ||
+        e.attaches == "bending_joints")
+      continue;
     ++builder_effects;
     ASSERT_TRUE(effects::HasPart(TwoBox(), e.attaches)) << e.id;
     ParamValues off(TwoBox()), on(TwoBox());
@@ -190,7 +193,7 @@ TEST_F(GenericCalibrationTest, BadGenesAndRecordingsAreReasons) {
 TEST_F(GenericCalibrationTest, EffectsApplyWhereTheRobotHasTheirParts) {
   const auto& cat = robots::Robot("caterpillar");
   for (const auto& e : effects::EffectCatalog())
-    if (!e.params.empty() && e.attaches != "servos")
+    if (!e.params.empty() && e.attaches != "servos" && e.attaches != "bending_joints")
       EXPECT_EQ(effects::WhyNotApplicable(e, cat), "") << e.id;
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), cat),
               HasSubstr("it attaches to servos, which caterpillar lacks"));

@@ -22,11 +22,19 @@ void GenericWorld::AddUniversalSpring(dJointID j, const Spring& s) {
   if (b2) for (int k = 0; k < 3; ++k) w[k] -= dBodyGetAngularVel(b2)[k];
   const double r1 = x1[0] * w[0] + x1[1] * w[1] + x1[2] * w[2];
   const double r2 = x2[0] * w[0] + x2[1] * w[1] + x2[2] * w[2];
-  const double t1 = -s.k * (UniversalAngle(j, 1) - s.rest) - s.c * r1;
-  const double t2 = -s.k2 * (UniversalAngle(j, 2) - s.rest2) - s.c2 * r2;
+  const double t1 = -SpringTorque(s.k, UniversalAngle(j, 1) - s.rest, r1) - s.c * r1;
+  const double t2 = -SpringTorque(s.k2, UniversalAngle(j, 2) - s.rest2, r2) - s.c2 * r2;
   const dReal t[3] = {t1 * x1[0] + t2 * x2[0], t1 * x1[1] + t2 * x2[1], t1 * x1[2] + t2 * x2[2]};
   if (b1) dBodyAddTorque(b1, t[0], t[1], t[2]);
   if (b2) dBodyAddTorque(b2, -t[0], -t[1], -t[2]);
+}
+
+// k psi, softened with deflection and stiffened with rate by the bending-joint effects.
+double GenericWorld::SpringTorque(double k, double psi, double rate) const {
+  double t = k * psi;
+  if (fx_.joint_softening > 0) t /= std::sqrt(1 + fx_.joint_softening * fx_.joint_softening * psi * psi);
+  if (fx_.joint_stiffening > 0) t *= 1 + fx_.joint_stiffening * std::fabs(rate);
+  return t;
 }
 
 double GenericWorld::UniversalAngle(dJointID j, int axis) {

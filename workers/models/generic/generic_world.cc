@@ -87,7 +87,10 @@ BuilderEffects::BuilderEffects(const ParamValues& v)
       servo_deadband(v.Effect("effect.servo_deadband_rad")),
       piston_deadband(v.Effect("effect.actuator_deadband_n")),
       spring_softening(v.Effect("effect.spring_softening")),
-      lump_compliance(v.Effect("effect.lump_compliance_per_mpa")) {}
+      lump_compliance(v.Effect("effect.lump_compliance_per_mpa")),
+      joint_softening(v.Effect("effect.joint_softening_per_rad")),
+      joint_damping_growth(v.Effect("effect.joint_damping_growth_per_rad2")),
+      joint_stiffening(v.Effect("effect.joint_stiffening_s_per_rad")) {}
 
 double ParamValues::Effect(const std::string& name) const {
   // A robot may declare an effect's parameter itself, with its own allowed range.
@@ -231,7 +234,7 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
       const dJointID u = BuildUniversal(j, body(j.body1, anchor), body(j.body2, anchor), v);
       joints_.push_back(u);
       Spring s = SpringOf(j, v);
-      AddUniversalDamper(u, s.c, s.c2);
+      AddUniversalDamper(u, s);
       s.c = s.c2 = 0;  // the dampers are rows; the springs stay torques
       springs_.push_back(s);
       continue;
@@ -272,7 +275,8 @@ dJointID GenericWorld::BuildUniversal(const robots::Joint& j, dBodyID b1, dBodyI
 // lighter body's inertia about the axis, which a chain of light disks on long links (paper
 // 004's arm, with the stiffness and damping a GA searches) does not give; implicit rows are
 // stable for any c. The axes follow the joint's (UpdateUniversalDampers, every step).
-void GenericWorld::AddUniversalDamper(dJointID u, double c1, double c2) {
+void GenericWorld::AddUniversalDamper(dJointID u, const Spring& s) {
+  const double c1 = s.c, c2 = s.c2;
   if (c1 <= 0 && c2 <= 0) return;
   dJointID m = dJointCreateAMotor(world_.world(), nullptr);
   dJointAttach(m, dJointGetBody(u, 0), dJointGetBody(u, 1));
@@ -287,17 +291,24 @@ void GenericWorld::AddUniversalDamper(dJointID u, double c1, double c2) {
     dJointSetAMotorParam(m, a.fmax, a.c > 0 ? dInfinity : 0);
     if (a.c > 0) dJointSetAMotorParam(m, a.cfm, 1 / a.c);
   }
-  universal_dampers_.push_back({u, m});
+  universal_dampers_.push_back({u, m, c1, c2, s.rest, s.rest2});
   UpdateUniversalDampers();
 }
 
+// Every step: the rows' axes follow the joint's, and with effect.joint_damping_growth_per_rad2
+// = b each axis damps with c (1 + b psi^2) at its deflection psi.
 void GenericWorld::UpdateUniversalDampers() {
-  for (const auto& [u, m] : universal_dampers_) {
+  const double b = fx_.joint_damping_growth;
+  for (const UniversalDamper& d : universal_dampers_) {
     dVector3 x1, x2;  // world frame
-    dJointGetUniversalAxis1(u, x1);
-    dJointGetUniversalAxis2(u, x2);
-    dJointSetAMotorAxis(m, 0, 0, x1[0], x1[1], x1[2]);
-    dJointSetAMotorAxis(m, 1, 0, x2[0], x2[1], x2[2]);
+    dJointGetUniversalAxis1(d.joint, x1);
+    dJointGetUniversalAxis2(d.joint, x2);
+    dJointSetAMotorAxis(d.motor, 0, 0, x1[0], x1[1], x1[2]);
+    dJointSetAMotorAxis(d.motor, 1, 0, x2[0], x2[1], x2[2]);
+    if (b <= 0) continue;
+    const double p1 = UniversalAngle(d.joint, 1) - d.rest1, p2 = UniversalAngle(d.joint, 2) - d.rest2;
+    if (d.c1 > 0) dJointSetAMotorParam(d.motor, dParamCFM, 1 / (d.c1 * (1 + b * p1 * p1)));
+    if (d.c2 > 0) dJointSetAMotorParam(d.motor, dParamCFM2, 1 / (d.c2 * (1 + b * p2 * p2)));
   }
 }
 

@@ -72,6 +72,11 @@ struct BuilderEffects {
   double piston_deadband = 0;  // N: Coulomb friction along each piston's line
   double spring_softening = 0;  // 1/m: spring links' axial force k x / sqrt(1 + (s x)^2)
   double lump_compliance = 0;   // 1/MPa: bodies of spring links as two deformable halves
+  // Bending joints (universal joints with a spring or damper; workers/effects, paper 004's
+  // state-dependent P), per axis with deflection psi from rest and rate w:
+  double joint_softening = 0;       // 1/rad: spring torque k psi / sqrt(1 + (s psi)^2)
+  double joint_damping_growth = 0;  // 1/rad^2: damping c (1 + b psi^2)
+  double joint_stiffening = 0;      // s/rad: spring torque times (1 + g |w|)
 };
 
 class GenericWorld : public RobotWorld {
@@ -179,9 +184,14 @@ class GenericWorld : public RobotWorld {
   };
   static Spring SpringOf(const robots::Joint& j, const ParamValues& v);
   void AddUniversalSpring(dJointID j, const Spring& s);
-  void AddUniversalDamper(dJointID u, double c1, double c2);
+  double SpringTorque(double k, double psi, double rate) const;
+  void AddUniversalDamper(dJointID u, const Spring& s);
   void UpdateUniversalDampers();
-  std::vector<std::pair<dJointID, dJointID>> universal_dampers_;  // (joint, its damper motor)
+  struct UniversalDamper {
+    dJointID joint, motor;
+    double c1, c2, rest1, rest2;  // the descriptor's damping per axis, and the rest angles
+  };
+  std::vector<UniversalDamper> universal_dampers_;
   static double UniversalAngle(dJointID j, int axis);
   // A spring link's three rows: a shear row (a distance held between a point far above
   // the anchor on body 1 and the anchor on body 2), the axial spring and the bend spring
