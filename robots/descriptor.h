@@ -219,6 +219,13 @@ struct RobotDescriptor {
   // Report figures its model's tools can draw for a gait study (kFigureKinds), beyond the
   // fitness curve every study gets; empty: none.
   std::vector<std::string> figures;
+  // Its counts (`counts:`: how many of a repeated part, such as the arm's lumps), each a
+  // whole number within its range, used as $name in the descriptor's texts (templates.h).
+  struct Count {
+    std::string name, doc;
+    int value = 0, lo = 0, hi = 0;
+  };
+  std::vector<Count> counts;
   // Its own names for robot.distance and robot.calibration bound to it (`objectives:`), the
   // names its paper's studies use (the caterpillar: caterpillar.distance); empty: none.
   std::string distance_objective, calibration_objective;

@@ -1,5 +1,6 @@
 #include "robots/descriptor_parser.h"
 
+#include <cmath>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -80,6 +81,40 @@ Status CheckNames(const YamlFields& f, const YAML::Node& node, const std::string
     return f.Error(node, path,
                    absl::StrCat("'", n, "' is not a parameter of this robot; nearest: ",
                                 absl::StrJoin(Nearest(n, known), ", ")));
+  }
+  return absl::OkStatus();
+}
+
+// counts: {NAME: {value: N, range: [LO, HI], doc: ...}}: whole numbers, set as template
+// variables for the rest of the file.
+Status ParseCounts(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
+  if (!node.IsMap()) return f.Error(node, "counts", "must be a mapping of NAME: {value, range}");
+  if (Status s = f.CheckNoDuplicates(node, "counts"); !s.ok()) return s;
+  for (const auto& kv : node) {
+    const std::string path = JoinPath("counts", kv.first.Scalar());
+    if (Status s = f.CheckMap(kv.second, path, {"value", "range", "doc"}); !s.ok()) return s;
+    RobotDescriptor::Count c;
+    c.name = kv.first.Scalar();
+    double value = 0, lo = 0, hi = 0;
+    auto v = f.Number(kv.second["value"], path + ".value");
+    if (!v.ok()) return v.status();
+    value = *v;
+    if (Status s = f.Range(kv.second["range"], path + ".range", lo, hi); !s.ok()) return s;
+    if (value != std::round(value) || lo != std::round(lo) || hi != std::round(hi))
+      return f.Error(kv.second, path, "value and range must be whole numbers");
+    if (value < lo || value > hi)
+      return f.Error(kv.second["value"], path + ".value",
+                     absl::StrCat(value, " is outside its range [", lo, ", ", hi, "]"));
+    if (kv.second["doc"]) {
+      auto doc = f.String(kv.second["doc"], path + ".doc");
+      if (!doc.ok()) return doc.status();
+      c.doc = *doc;
+    }
+    c.value = static_cast<int>(value);
+    c.lo = static_cast<int>(lo);
+    c.hi = static_cast<int>(hi);
+    f.SetVariable(c.name, value);
+    d.counts.push_back(c);
   }
   return absl::OkStatus();
 }
@@ -276,7 +311,7 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "objectives", "parameters",
-                                       "scales", "suspects", "relations", "controller", "sensors",
+                                       "counts", "scales", "suspects", "relations", "controller", "sensors",
                                        "bodies", "joints", "actuators", "ground", "plane",
                                        "self_contact"});
       !s.ok())
@@ -284,6 +319,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   RobotDescriptor d;
   d.source = source;
   if (Status s = ParseHeader(f, root, d); !s.ok()) return s;
+  if (root["counts"])
+    if (Status s = ParseCounts(f, root["counts"], d); !s.ok()) return s;
   if (!root["parameters"].IsMap())
     return f.Error(root["parameters"], "parameters", "missing (a mapping of the robot's numbers)");
   if (Status s = ParseParameters(f, root["parameters"], "", d); !s.ok()) return s;

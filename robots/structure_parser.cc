@@ -23,7 +23,9 @@ Status ReadExpr(const YamlFields& f, const YAML::Node& node, const std::string& 
                 const RobotDescriptor& d, Expr& out) {
   if (!node.IsDefined() || !node.IsScalar())
     return f.Error(node, path, "missing (a number, a parameter name or an expression)");
-  auto e = ParseExpr(node.Scalar());
+  auto text = f.Scalar(node, path);
+  if (!text.ok()) return text.status();
+  auto e = ParseExpr(*text);
   if (!e.ok()) return f.Error(node, path, std::string(e.status().message()));
   for (const auto& t : e->terms) {
     if (d.FindParameter(t.name) != nullptr) continue;
@@ -331,10 +333,9 @@ Status ParseList(const YamlFields& f, const YAML::Node& node, const std::string&
                  RobotDescriptor& d, Fn parse_one) {
   if (!node[key]) return absl::OkStatus();
   if (!node[key].IsSequence()) return f.Error(node[key], key, "must be a list");
-  for (size_t i = 0; i < node[key].size(); ++i)
-    if (Status s = parse_one(f, node[key][i], absl::StrCat(key, "[", i, "]"), d); !s.ok())
-      return s;
-  return absl::OkStatus();
+  return f.ForEachItem(node[key], key, [&](const YAML::Node& item, const std::string& path) {
+    return parse_one(f, item, path, d);
+  });
 }
 
 // The controller drives exactly the declared actuators, when the robot declares them.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 
@@ -67,11 +68,56 @@ absl::Status YamlFields::CheckMap(const YAML::Node& node, const std::string& pat
   return absl::OkStatus();
 }
 
+absl::StatusOr<std::string> YamlFields::Scalar(const YAML::Node& node,
+                                               const std::string& path) const {
+  auto text = Substitute(node.Scalar(), vars_);
+  if (!text.ok()) return Error(node, path, std::string(text.status().message()));
+  return text;
+}
+
 absl::StatusOr<std::string> YamlFields::String(const YAML::Node& node,
                                                const std::string& path) const {
   if (!node.IsDefined() || node.IsNull()) return Error(node, path, "missing (a text)");
   if (!node.IsScalar()) return Error(node, path, "must be a text");
-  return node.Scalar();
+  return Scalar(node, path);
+}
+
+absl::Status YamlFields::ForEachItem(
+    const YAML::Node& node, const std::string& path,
+    const std::function<absl::Status(const YAML::Node&, const std::string&)>& fn) const {
+  for (size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    const std::string at = absl::StrCat(path, "[", i, "]");
+    if (!item.IsMap() || !item["repeat"]) {
+      if (absl::Status s = fn(item, at); !s.ok()) return s;
+      continue;
+    }
+    if (absl::Status s = CheckMap(item, at, {"repeat", "item"}); !s.ok()) return s;
+    const YAML::Node rep = item["repeat"];
+    if (!rep.IsMap() || rep.size() != 1 || !rep.begin()->second.IsSequence() ||
+        rep.begin()->second.size() != 2)
+      return Error(rep, at + ".repeat", "must be {NAME: [FROM, TO]}, e.g. {k: [1, $lumps]}");
+    const std::string name = rep.begin()->first.Scalar();
+    if (vars_.count(name))
+      return Error(rep, at + ".repeat", absl::StrCat("$", name, " is already a variable here"));
+    double bounds[2];
+    for (int b = 0; b < 2; ++b) {
+      const YAML::Node n = rep.begin()->second[b];
+      auto text = Scalar(n, absl::StrCat(at, ".repeat.", name, "[", b, "]"));
+      if (!text.ok()) return text.status();
+      if (!absl::SimpleAtod(*text, &bounds[b]) || bounds[b] != std::round(bounds[b]))
+        return Error(n, absl::StrCat(at, ".repeat.", name, "[", b, "]"),
+                     absl::StrCat("must be a whole number, got '", *text, "'"));
+    }
+    if (!item["item"]) return Error(item, at + ".item", "missing (the item to repeat)");
+    for (double v = bounds[0]; v <= bounds[1]; ++v) {
+      SetVariable(name, v);
+      absl::Status s = fn(item["item"], absl::StrCat(at, " (", name, " = ", v, ")"));
+      UnsetVariable(name);
+      if (!s.ok()) return s;
+    }
+  }
+  return absl::OkStatus();
 }
 
 absl::StatusOr<double> YamlFields::Number(const YAML::Node& node, const std::string& path,
@@ -101,11 +147,13 @@ absl::StatusOr<std::vector<std::string>> YamlFields::StringList(const YAML::Node
   if (!node.IsDefined() || !node.IsSequence() || node.size() == 0)
     return Error(node, path, "must be a non-empty list of names");
   std::vector<std::string> out;
-  for (size_t i = 0; i < node.size(); ++i) {
-    auto s = String(node[i], absl::StrCat(path, "[", i, "]"));
-    if (!s.ok()) return s.status();
-    out.push_back(*s);
-  }
+  absl::Status st = ForEachItem(node, path, [&](const YAML::Node& item, const std::string& at) {
+    auto s = String(item, at);
+    if (s.ok()) out.push_back(*s);
+    return s.status();
+  });
+  if (!st.ok()) return st;
+  if (out.empty()) return Error(node, path, "must be a non-empty list of names");
   return out;
 }
 

@@ -44,6 +44,11 @@ void PrintJson(const robots::RobotDescriptor& d) {
               << ", \"calibratable\": " << (p.calibratable ? "true" : "false")
               << ", \"doc\": " << JsonQuote(p.doc) << "}";
   }
+  std::cout << "],\n \"counts\": [";
+  for (size_t i = 0; i < d.counts.size(); ++i)
+    std::cout << (i ? ", " : "") << "{\"name\": " << JsonQuote(d.counts[i].name)
+              << ", \"value\": " << d.counts[i].value << ", \"lo\": " << d.counts[i].lo
+              << ", \"hi\": " << d.counts[i].hi << ", \"doc\": " << JsonQuote(d.counts[i].doc) << "}";
   std::cout << "],\n \"scales\": [";
   for (size_t i = 0; i < d.scales.size(); ++i) {
     std::cout << (i ? ", " : "") << "{\"name\": " << JsonQuote(d.scales[i].name)
@@ -63,6 +68,11 @@ void PrintText(const robots::RobotDescriptor& d) {
   std::cout << d.name << " (model " << d.model << (d.paper.empty() ? "" : ", paper ") << d.paper
             << ", " << d.source << ")\n";
   if (!d.summary.empty()) std::cout << d.summary << "\n";
+  if (!d.counts.empty()) {
+    std::cout << "\nCOUNT  VALUE  RANGE  (another value is another model: edit the file)\n";
+    for (const auto& c : d.counts)
+      std::cout << c.name << "  " << c.value << "  [" << c.lo << ", " << c.hi << "]  " << c.doc << "\n";
+  }
   std::cout << "\nPARAMETER  VALUE  RANGE  CALIBRATE\n";
   for (const auto& p : d.parameters) {
     std::cout << p.name << "  " << (std::isinf(p.value) ? "infinite" : Num(p.value)) << "  "

@@ -52,7 +52,7 @@ TEST_F(ContinuumArmTest, HangsStraightUnderGravity) {
   const auto w = Hold({}, 2.0, true);
   ASSERT_TRUE(w);
   const ParamValues v(Arm());
-  EXPECT_NEAR(Ch(*w, "tip.z"), -5 * v("arm.link_length_m"), 1e-4);
+  EXPECT_NEAR(Ch(*w, "tip.z"), -v("arm.length_m"), 1e-4);
   EXPECT_NEAR(Ch(*w, "tip.x"), 0, 1e-9);
   EXPECT_NEAR(Ch(*w, "tip.y"), 0, 1e-9);
   EXPECT_EQ(w->ground_contacts(), -1);  // no ground: contacts not known
@@ -87,6 +87,37 @@ TEST_F(ContinuumArmTest, RodsBendEveryJointByTheirMomentOverItsStiffness) {
   EXPECT_GT(Ch(*w, "tip.x"), 0);
   EXPECT_GT(Ch(*w, "tip.y"), 0);
   EXPECT_NEAR(std::atan2(Ch(*w, "tip.y"), Ch(*w, "tip.x")), resultant, 0.035);
+}
+
+// Another N is the same arm (counts.lumps; joint stiffness N / 5 times the paper's): rods 2
+// and 3 pulled alike bend it about y only, each of the N joints by theta = M / k_N, and the
+// tip lies at x = -(L / N) sum_i sin(i theta), z = -(L / N) sum_i cos(i theta): the chain's
+// closed form, which tends to the continuum's L (1 - cos T) / T as N grows.
+TEST_F(ContinuumArmTest, EveryNumberOfLumpsBendsAsItsChainsClosedForm) {
+  const double f = 0.5;
+  for (int n : {2, 5, 10, 20}) {
+    std::string text(robots::BuiltinText("continuum_arm"));
+    const std::string from = "lumps: {value: 5,";
+    text.replace(text.find(from), from.size(), "lumps: {value: " + std::to_string(n) + ",");
+    auto d = robots::ParseDescriptor(text, "arm.yaml");
+    ASSERT_TRUE(d.ok()) << d.status();
+    ParamValues v(*d);
+    ASSERT_TRUE(v.Set("simulation.gravity_m_per_s2", 0).ok());
+    auto w = GenericWorld::Build(*d, v, 0);
+    ASSERT_TRUE(w.ok()) << w.status();
+    for (int i = 0; i < 8000; ++i) ASSERT_TRUE((*w)->Step({0, f, f}).ok);
+    // r f (sin t, -cos t) of rods at 120 and 240 degrees: (0, r f) together.
+    const double m = v("rods.radius_m") * f;
+    const double theta = m / (v("joint.stiffness_y_nm_per_rad") * n / 5.0);
+    double x = 0, z = 0;
+    for (int i = 1; i <= n; ++i) {
+      x -= v("arm.length_m") / n * std::sin(i * theta);
+      z -= v("arm.length_m") / n * std::cos(i * theta);
+    }
+    EXPECT_NEAR(Ch(**w, "tip.x"), x, 0.01 * std::fabs(x)) << "N = " << n;
+    EXPECT_NEAR(Ch(**w, "tip.z"), z, 1e-4) << "N = " << n;
+    EXPECT_NEAR(Ch(**w, "tip.y"), 0, 1e-9) << "N = " << n;
+  }
 }
 
 TEST_F(ContinuumArmTest, BalancedRodsLeaveItStraightAndForceIsClamped) {
