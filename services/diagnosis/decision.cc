@@ -220,8 +220,9 @@ std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScor
       return absl::StrFormat("passed every test, but adds nothing its member %s lacks %s",
                              absl::StrJoin(m->effects, "+"), larger);
   return absl::StrFormat("passed every test, but the named explanation predicts the held-out "
-                         "recordings better (%.3g against %.3g mm)",
-                         1000 * winner->held, 1000 * fit.held);
+                         "recordings better (%.3g against %.3g %s)",
+                         rule.error_scale * winner->held, rule.error_scale * fit.held,
+                         rule.error_unit);
 }
 
 }  // namespace gaitforge::diagnosis

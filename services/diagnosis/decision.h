@@ -26,6 +26,14 @@ struct DecisionRule {
   double paired_t = 2.015;      // and wins the paired comparison across variants (one-sided
                                 // 5% at 5 degrees of freedom: six variants)
   double pair_gain = 0.05;      // a pair replaces its member only if 5% better held out
+  // How errors read in messages: positions (m) as mm; error = acceleration (relative) as %.
+  double error_scale = 1000;
+  std::string error_unit = "mm";
+  void SetUnitFor(const std::string& error) {
+    const bool relative = error == "acceleration";
+    error_scale = relative ? 100 : 1000;
+    error_unit = relative ? "%" : "mm";
+  }
 };
 
 struct Decision {

@@ -155,6 +155,8 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
     o->set_robot_descriptor(d.robot_descriptor());
   }
   (*o->mutable_options())["error"] = d.error();
+  if (!d.channels().empty()) (*o->mutable_options())["channels"] = d.channels();
+  for (const auto& [name, value] : d.params()) (*o->mutable_params())[name] = value;
   if (d.has_timestep_ms()) (*o->mutable_params())["timestep_ms"] = d.timestep_ms();
   if (!in.weights.empty()) (*o->mutable_options())["weights"] = in.weights;
   for (const auto& h : in.train) o->add_recordings(h);
@@ -179,9 +181,16 @@ std::string SetArg(const Candidate& c) {
 std::vector<double> FileErrors(const Candidate& c, const std::vector<std::string>& files,
                                const v1::DiagnosisSpec& d, const std::string& out_dir,
                                const std::string& extra_set) {
-  std::vector<std::string> argv = {core::SiblingBinary("gaitforge-sim"), "calibration-eval",
-                                   "--recordings", absl::StrJoin(files, ","), "--options",
-                                   "error=" + d.error()};
+  std::vector<std::string> argv = {
+      core::SiblingBinary("gaitforge-sim"), "calibration-eval", "--recordings",
+      absl::StrJoin(files, ","), "--options",
+      "error=" + d.error() + (d.channels().empty() ? "" : ";channels=" + d.channels())};
+  if (!d.params().empty()) {
+    std::vector<std::string> params;
+    for (const auto& [name, value] : d.params()) params.push_back(absl::StrFormat("%s=%.17g", name, value));
+    std::sort(params.begin(), params.end());  // a map's order is not fixed
+    argv.insert(argv.end(), {"--objective-params", absl::StrJoin(params, ",")});
+  }
   if (const std::string robot = RobotArg(d); !robot.empty())
     argv.insert(argv.end(), {"--robot", robot});
   std::string set = SetArg(c);
@@ -268,7 +277,7 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
 }
 
 std::string NumericsNote(const std::vector<std::string>& variants,
-                         const std::vector<double>& training_errors) {
+                         const std::vector<double>& training_errors, const DecisionRule& unit) {
   if (variants.empty() || training_errors.size() != variants.size() || !(training_errors[0] > 0))
     return "";
   size_t best = 0;
@@ -277,10 +286,11 @@ std::string NumericsNote(const std::vector<std::string>& variants,
   if (!(training_errors[best] < kUnconvergedShare * training_errors[0])) return "";
   return absl::StrFormat(
       "the model's numerics are not converged for these recordings: with %s the uncalibrated "
-      "model misses the training recordings by %.3g mm instead of %.3g mm (%+.0f%%), so an "
+      "model misses the training recordings by %.3g %s instead of %.3g %s (%+.0f%%), so an "
       "effect named here may stand in for the step's own error; diagnose a model whose "
       "numerics converge (gaitforge-bench-engines measures a robot's step)",
-      variants[best], 1000 * training_errors[best], 1000 * training_errors[0],
+      variants[best], unit.error_scale * training_errors[best], unit.error_unit,
+      unit.error_scale * training_errors[0], unit.error_unit,
       100 * (training_errors[best] / training_errors[0] - 1));
 }
 

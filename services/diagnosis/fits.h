@@ -107,7 +107,8 @@ std::string BaseSet(const v1::DiagnosisSpec& d, const std::string& extra_set);
 double FinerStepMs(const std::vector<std::string>& variants,
                    const std::vector<double>& training_errors, double own_step_ms);
 std::string NumericsNote(const std::vector<std::string>& variants,
-                         const std::vector<double>& training_errors);
+                         const std::vector<double>& training_errors,
+                         const DecisionRule& unit = DecisionRule());
 
 // run(0) .. run(n - 1), two at a time (each typically one gaitforge-sim process).
 void TwoAtATime(size_t n, const std::function<void(size_t)>& run);

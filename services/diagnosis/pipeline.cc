@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 #include "robots/controllers.h"
 #include "robots/registry.h"
 #include "services/diagnosis/locate.h"
@@ -35,7 +36,7 @@ double GaitPeriod(const robots::RobotDescriptor& robot, const recording::Recordi
 }
 
 // The compared samples of the training recordings: period bins (or samples, for the
-// pointwise error) times channels.
+// pointwise and acceleration errors, within window_s when set) times compared channels.
 absl::Status CountSamples(RunState& s) {
   auto robot = RobotOf(s.d);
   if (!robot.ok()) return robot.status();
@@ -43,11 +44,18 @@ absl::Status CountSamples(RunState& s) {
     auto rec = recording::ParseRecording(ReadFile(f), ReadFile(f + ".json"), f, f + ".json", {},
                                          robot->get());
     if (!rec.ok()) return rec.status();
-    const int64_t bins =
-        s.d.error() == "pointwise"
-            ? static_cast<int64_t>(rec->t.size())
-            : std::max<int64_t>(1, std::llround(GaitPeriod(**robot, *rec) / rec->dt));
-    s.n += bins * static_cast<int64_t>(rec->channels.size());
+    const bool per_sample = s.d.error() == "pointwise" || s.d.error() == "acceleration";
+    int64_t bins = per_sample ? static_cast<int64_t>(rec->t.size())
+                              : std::max<int64_t>(1, std::llround(GaitPeriod(**robot, *rec) / rec->dt));
+    if (per_sample && s.d.params().count("window_s") && s.d.params().at("window_s") > 0)
+      bins = std::min<int64_t>(bins, std::llround(s.d.params().at("window_s") / rec->dt) + 1);
+    int64_t channels = 0;
+    const std::vector<std::string> model = (*robot)->Channels();
+    const std::vector<std::string> chosen = absl::StrSplit(s.d.channels(), ',', absl::SkipEmpty());
+    for (const std::string& c : rec->channels)
+      channels += std::find(model.begin(), model.end(), c) != model.end() &&
+                  (chosen.empty() || std::find(chosen.begin(), chosen.end(), c) != chosen.end());
+    s.n += bins * std::max<int64_t>(1, channels);
   }
   return absl::OkStatus();
 }
@@ -84,8 +92,9 @@ absl::Status Numerics(RunState& s) {
     if (finer <= 0 || finer < 0.05) break;
     s.d.set_timestep_ms(finer);
     s.r.note(absl::StrFormat("numerics first: the model's %.3g ms step misses the training "
-                             "recordings by %.3g mm, %.3g ms by less: diagnosing at %.3g ms",
-                             own, 1000 * s.variant_train[0], finer, finer));
+                             "recordings by %.3g %s, %.3g ms by less: diagnosing at %.3g ms",
+                             own, s.rule.error_scale * s.variant_train[0], s.rule.error_unit,
+                             finer, finer));
     if (auto st = Weigh(s); !st.ok()) return st;
   }
   return absl::OkStatus();
@@ -235,8 +244,9 @@ const RangeVerdict& Judge(RunState& s, const Candidate* c) {
   const auto started = std::chrono::steady_clock::now();
   s.ranges[c] = FloorRange(*c, s.d, s.in.train_files, s.weights, s.tolerance, seed);
   s.r.note(absl::StrFormat(
-      "range: %s: %d evaluations, %d within %.3g mm of the least (%.0f s)", c->label,
-      s.ranges[c].evaluations, s.ranges[c].accepted, 1000 * s.tolerance,
+      "range: %s: %d evaluations, %d within %.3g %s of the least (%.0f s)", c->label,
+      s.ranges[c].evaluations, s.ranges[c].accepted, s.rule.error_scale * s.tolerance,
+      s.rule.error_unit,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()));
   return s.judged[c] = JudgeRange(*c, s.ranges[c], s.d.base_parameters_size());
 }
@@ -291,6 +301,7 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
   std::error_code ec;
   std::filesystem::create_directories(in.dir, ec);
   RunState s(d, in, studies, r);
+  s.rule.SetUnitFor(d.error());
   for (auto stage : {CountSamples, Weigh, Numerics, Baseline, Structure, Screen, Refit})
     if (auto st = stage(s); !st.ok()) return st;
   DecideStage(s);

@@ -45,9 +45,10 @@ std::string WhyNot(const RunState& s, const Candidate& c) {
   if (s.source && BeatsBaseline(s.base, c, s.rule) && c.held < s.named[0]->held)
     return absl::StrFormat(
         "passed every test and predicts the held-out recordings better than the named "
-        "explanation (%.3g against %.3g mm), but of %s (held out %.3g mm, set aside) the "
+        "explanation (%.3g against %.3g %s), but of %s (held out %.3g %s, set aside) the "
         "data require only %s, which is named for it",
-        1000 * c.held, 1000 * s.named[0]->held, s.source->label, 1000 * s.source->held,
+        s.rule.error_scale * c.held, s.rule.error_scale * s.named[0]->held, s.rule.error_unit,
+        s.source->label, s.rule.error_scale * s.source->held, s.rule.error_unit,
         s.named[0]->label);
   std::vector<const FitScore*> others;
   for (const Candidate& f : s.full) others.push_back(&f);
@@ -206,12 +207,14 @@ std::string WriteReport(RunState& s) {
       ", \"numerics\": ", Numerics(s));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",
-                  JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train)),
+                  JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train, s.rule)),
                   ", \"located\": ", s.located,
                   ", \"located_held_out\": ", s.located_held, ", \"experiment\": ",
                   JsonQuote(Experiment(s, none)), ", \"corrected_model\": ",
                   JsonQuote(s.corrected), ", \"compared_samples\": ", s.n,
-                  ", \"rule\": {\"margin\": ", Num(s.rule.margin), ", \"held_out_gain\": ",
+                  ", \"rule\": {\"error_scale\": ", Num(s.rule.error_scale),
+                  ", \"error_unit\": ", JsonQuote(s.rule.error_unit),
+                  ", \"margin\": ", Num(s.rule.margin), ", \"held_out_gain\": ",
                   Num(s.rule.held_out_gain), ", \"paired_t\": ", Num(s.rule.paired_t),
                   ", \"pair_gain\": ", Num(s.rule.pair_gain), "}, \"overlay\": ",
                   Overlay(s, shown), ", \"dir\": ", JsonQuote(s.in.dir));

@@ -2,6 +2,7 @@
 #include "services/diagnosis/spec.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <string>
 #include <vector>
@@ -25,6 +26,29 @@ int SharedWithBase(const effects::EffectInfo& e, const v1::DiagnosisSpec& d) {
 }
 
 }  // namespace
+
+// params: the calibration objective's comparison params, by its catalog, but timestep_ms
+// (its own field).
+absl::Status CheckParams(const v1::DiagnosisSpec& d) {
+  const core::ObjectiveInfo* info = core::FindObjective(CalibrationObjective(d));
+  for (const auto& [name, value] : d.params()) {
+    const core::ParamInfo* p = nullptr;
+    std::vector<std::string> known;
+    for (const auto& q : info ? info->params : std::vector<core::ParamInfo>{}) {
+      if (q.name == "timestep_ms") continue;
+      known.push_back(q.name);
+      if (q.name == name) p = &q;
+    }
+    if (!p)
+      return absl::InvalidArgumentError(absl::StrCat("field 'params." , name, "': not a param of the comparison (known: ",
+                                                     absl::StrJoin(known, ", "), ")"));
+    if (!(value >= p->lo && value <= p->hi) || (p->integer && value != std::round(value)))
+      return absl::InvalidArgumentError(absl::StrCat("field 'params.", name, "': ", value,
+                                                     " is out of range [", p->lo, ", ", p->hi, "]",
+                                                     p->integer ? ", whole" : ""));
+  }
+  return absl::OkStatus();
+}
 
 absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.training_size() == 0)
@@ -92,8 +116,10 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
   if (!(d.screening_tie() >= 0 && d.screening_tie() <= 0.2))
     return absl::InvalidArgumentError("field 'screening_tie': out of range [0, 0.2]");
-  if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats")
-    return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats");
+  if (d.error() != "shape" && d.error() != "pointwise" && d.error() != "stats" &&
+      d.error() != "acceleration")
+    return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats, acceleration");
+  if (absl::Status s = CheckParams(d); !s.ok()) return s;
   if (d.structure() != "off" && d.structure() != "first")
     return absl::InvalidArgumentError(absl::StrCat("field 'structure': '", d.structure(),
                                                    "' is not one of off, first"));

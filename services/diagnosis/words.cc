@@ -43,8 +43,21 @@ std::string Json(const Value& v) {
 
 std::string End(double v) { return std::isfinite(v) ? absl::StrFormat("%.4g", v) : "open"; }
 
+// How the report's errors read (its rule's error_scale and error_unit; older reports: mm).
+struct Unit {
+  double scale = 1000;
+  std::string label = "mm";
+};
+Unit UnitOf(const Struct& r) {
+  Unit u;
+  const Struct& rule = O(r, "rule");
+  if (std::isfinite(N(rule, "error_scale"))) u.scale = N(rule, "error_scale");
+  if (!S(rule, "error_unit").empty()) u.label = S(rule, "error_unit");
+  return u;
+}
+
 // One named effect: its meaning, and each parameter's value with its range.
-std::string Named(const Struct& e) {
+std::string Named(const Struct& e, const Unit& u) {
   std::string out;
   const std::string id = S(e, "id");
   // The report names its effects (a robot's own suspects are not in the catalog); reports
@@ -79,14 +92,15 @@ std::string Named(const Struct& e) {
   }
   if (std::isfinite(tolerance))
     absl::StrAppend(&out, absl::StrFormat(
-                              "    (range: where the training error stays within %.3g mm of "
+                              "    (range: where the training error stays within %.3g %s of "
                               "its least, the model's own spread; %d of %d evaluations)\n",
-                              1000 * tolerance, static_cast<int>(N(e, "range_accepted")),
+                              u.scale * tolerance, u.label, static_cast<int>(N(e, "range_accepted")),
                               static_cast<int>(N(e, "range_evaluations"))));
   return out;
 }
 
 std::string Verdict(const Struct& r) {
+  const Unit u = UnitOf(r);
   const Struct& err = O(r, "errors");
   const Struct& rule = O(r, "rule");
   const std::string experiment = S(r, "experiment");
@@ -95,26 +109,27 @@ std::string Verdict(const Struct& r) {
     const Struct& nu = O(r, "numerics");
     absl::StrAppend(&out, absl::StrFormat(
                               "the model's numerics: its %.3g ms step missed the training "
-                              "recordings by %.3g mm, %.3g ms by %.3g mm, so the diagnosis ran "
+                              "recordings by %.3g %s, %.3g ms by %.3g %s, so the diagnosis ran "
                               "at %.3g ms\n",
-                              N(nu, "from_ms"), 1000 * N(nu, "from_training_error"),
-                              N(nu, "at_ms"), 1000 * N(nu, "at_training_error"), N(nu, "at_ms")));
+                              N(nu, "from_ms"), u.scale * N(nu, "from_training_error"), u.label,
+                              N(nu, "at_ms"), u.scale * N(nu, "at_training_error"), u.label,
+                              N(nu, "at_ms")));
   }
   if (Field(r, "structure").kind_case() == Value::kStructValue) {
     const Struct& st = O(r, "structure");
     absl::StrAppend(&out, absl::StrFormat("the model's structure: %s, fitted into the baseline "
                                           "(delta BIC %.1f); effects were sought on top of it\n",
                                           S(st, "id"), N(st, "delta_bic")),
-                    Named(st));
+                    Named(st, u));
   }
   if (S(r, "verdict") == "none") {
     absl::StrAppend(
         &out, absl::StrFormat(
                   "no missing physics found: no candidate beat the baseline by the BIC margin "
-                  "(%g) and cut its held-out error (%.3g mm +- %.2g mm over numerically "
+                  "(%g) and cut its held-out error (%.3g %s +- %.2g %s over numerically "
                   "irrelevant variants) by %d%% with a paired t above %g across the variants\n",
-                  N(rule, "margin"), 1000 * N(err, "baseline_held_out"),
-                  1000 * N(err, "noise_floor_held_out"),
+                  N(rule, "margin"), u.scale * N(err, "baseline_held_out"), u.label,
+                  u.scale * N(err, "noise_floor_held_out"), u.label,
                   static_cast<int>(N(rule, "held_out_gain") * 100), N(rule, "paired_t")));
     if (!S(r, "none_reading").empty()) absl::StrAppend(&out, "  ", S(r, "none_reading"), "\n");
     if (!S(r, "numerics_note").empty()) absl::StrAppend(&out, "  caution: ", S(r, "numerics_note"), "\n");
@@ -126,13 +141,14 @@ std::string Verdict(const Struct& r) {
   for (const auto& e : effects) labels.push_back(S(e.struct_value(), "id"));
   absl::StrAppend(&out, S(r, "verdict") == "found" ? "found " : "ambiguous between ",
                   absl::StrJoin(labels, " and "), "\n");
-  for (const auto& e : effects) absl::StrAppend(&out, Named(e.struct_value()));
+  for (const auto& e : effects) absl::StrAppend(&out, Named(e.struct_value(), u));
   const Struct& first = effects.empty() ? err : effects[0].struct_value();
   absl::StrAppend(&out, absl::StrFormat(
-                            "  held-out error %.4g -> %.4g mm, training %.4g -> %.4g mm, delta "
+                            "  held-out error %.4g -> %.4g %s, training %.4g -> %.4g %s, delta "
                             "BIC %.1f\n",
-                            1000 * N(err, "baseline_held_out"), 1000 * N(first, "held_out"),
-                            1000 * N(err, "baseline_train"), 1000 * N(first, "train"),
+                            u.scale * N(err, "baseline_held_out"), u.scale * N(first, "held_out"),
+                            u.label, u.scale * N(err, "baseline_train"),
+                            u.scale * N(first, "train"), u.label,
                             N(first, "delta_bic")));
   if (!S(r, "numerics_note").empty()) absl::StrAppend(&out, "  caution: ", S(r, "numerics_note"), "\n");
   if (!experiment.empty()) absl::StrAppend(&out, "  to tell them apart: ", experiment, "\n");
@@ -142,6 +158,7 @@ std::string Verdict(const Struct& r) {
 
 // Where it showed (the locate script's summary), the figures, near ties and runners-up.
 std::string Details(const Struct& r, const std::string& dir) {
+  const Unit u = UnitOf(r);
   std::string out;
   if (!S(O(r, "located"), "summary").empty())
     absl::StrAppend(&out, "  where it showed: ", S(O(r, "located"), "summary"), "\n");
@@ -169,8 +186,8 @@ std::string Details(const Struct& r, const std::string& dir) {
     std::vector<std::string> bound;
     for (const auto& b : Field(c, "at_bound").list_value().values()) bound.push_back(b.string_value());
     absl::StrAppend(&out, absl::StrFormat(
-                              "    %s (dBIC %.1f, held-out %.3g mm%s): %s\n", S(c, "id"),
-                              N(c, "delta_bic"), 1000 * N(c, "held_out"),
+                              "    %s (dBIC %.1f, held-out %.3g %s%s): %s\n", S(c, "id"),
+                              N(c, "delta_bic"), u.scale * N(c, "held_out"), u.label,
                               bound.empty() ? std::string()
                                             : ", at the edge of its range: " +
                                                   absl::StrJoin(bound, ", "),

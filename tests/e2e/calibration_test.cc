@@ -169,7 +169,10 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
   const std::string head = "name: d\nrobot: caterpillar\ntraining: [a.csv]\nheld_out: [c.csv]\n";
   for (const auto& [extra, expected] : std::vector<std::pair<std::string, std::string>>{
            {"weighting: both\n", "field 'weighting': 'both' is not one of equal, floor"},
-           {"error: wiggle\n", "field 'error': one of shape, pointwise, stats"},
+           {"error: wiggle\n", "field 'error': one of shape, pointwise, stats, acceleration"},
+           {"params: {window: 1}\n", "field 'params.window': not a param of the comparison"},
+           {"params: {max_shift_samples: 2.5}\n",
+            "field 'params.max_shift_samples': 2.5 is out of range [0, 1000], whole"},
            {"top: 0\n", "field 'top': out of range [1, 20]"},
            {"screening_tie: 0.5\n", "field 'screening_tie': out of range [0, 0.2]"},
            {"candidates: [ground.wobble]\n", "field 'candidates[0]': 'ground.wobble'"}}) {
