@@ -143,8 +143,9 @@ int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std
     std::cerr << "gaitforge: drawing the calibration figures failed\n";
     return kFailed;
   }
-  for (const char* f : {"-overlays.svg", "-errors.svg", "-distance-ratio.svg"})
-    written->push_back(out_dir + "/" + id + f);
+  // The distance ratio for recordings of a gait; the accelerations for error = acceleration.
+  for (const char* f : {"-overlays.svg", "-errors.svg", "-distance-ratio.svg", "-accelerations.svg"})
+    if (std::filesystem::exists(out_dir + "/" + id + f)) written->push_back(out_dir + "/" + id + f);
   if (!g.json) {
     std::cout << "fitted parameters (best of the study; +- the final search distribution's sd)\n";
     for (int i = 0; i < spec.bounds_size() && i < best.genes_size(); ++i)

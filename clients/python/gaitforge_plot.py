@@ -215,6 +215,53 @@ def overlay_channels(report, recording):
     return list(dict.fromkeys(chosen))[:4]
 
 
+# The Savitzky-Golay second derivative of the acceleration error (9 samples, cubic;
+# workers/objectives/acceleration_error.h), NaN where the window does not fit.
+SG_WEIGHTS = [28, 7, -8, -17, -20, -17, -8, 7, 28]
+
+
+def second_derivative(x, dt):
+    h = len(SG_WEIGHTS) // 2
+    out = [float("nan")] * len(x)
+    for k in range(h, len(x) - h):
+        out[k] = sum(w * x[k + i - h] for i, w in enumerate(SG_WEIGHTS)) / 462 / dt ** 2
+    return out
+
+
+def accelerations(args, sets, channels):
+    """Recorded and simulated accelerations of the compared channels (the error's filter on
+    both), before and after the fit: what error = acceleration compares."""
+    fig, axes = plt.subplots(len(sets), len(channels), figsize=(3.2 * len(channels), 2.4 * len(sets)),
+                             squeeze=False)
+    for row, (kind, before, after) in enumerate(sets):
+        real = read_csv(before["file"])
+        dt = real["t"][1] - real["t"][0]
+        for col, ch in enumerate(channels):
+            ax = axes[row, col]
+            if ch not in real:
+                ax.set_visible(False)
+                continue
+            ax.plot(real["t"], second_derivative(real[ch], dt), color="k", lw=1.2, label="recorded")
+            for res, color, name in ((before, "tab:blue", "before"), (after, "tab:red", "after")):
+                if res.get("sim"):
+                    shift = res["metrics"].get("time_shift_s_0", 0.0) + res.get("time_offset_s", 0.0)
+                    sim = aligned(real, res["sim"], ch, shift)
+                    ax.plot(real["t"], second_derivative(sim, dt), color=color, lw=0.9,
+                            ls="--" if name == "before" else "-", label=f"model {name} fit")
+            ax.set_title(f"{kind} {row}: {ch}'' (m/s^2)", fontsize=8)
+            ax.tick_params(labelsize=7)
+            if row == len(sets) - 1:
+                ax.set_xlabel("t (s)", fontsize=8)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("recorded vs simulated accelerations (Savitzky-Golay, 9 samples), before and "
+                 "after the fit (cf. paper 004's estimation)", fontsize=10)
+    fig.tight_layout()
+    out = f"{args.out_prefix}-accelerations.svg"
+    fig.savefig(out)
+    print(out)
+    return 0
+
+
 def calibration(args):
     with open(args.report) as f:
         rep = json.load(f)
@@ -253,22 +300,29 @@ def calibration(args):
     def err(rs):
         vals = [r["metrics"].get("error", float("nan")) for r in rs if r["valid"]]
         return sum(vals) / len(vals) if vals else float("nan")
+    acceleration = any("acceleration_fitness" in r["metrics"] for _, b, a in sets for r in (b, a))
     fig, ax = plt.subplots(figsize=(6, 3.6))
     labels = ["training", "held-out"]
     before = [err(train_b), err(held_b)]
     after = [err(train_a), err(held_a)]
+    # Paper 004's F = 1 - error for the acceleration error; else the error x 1000.
+    show = (lambda v: 1 - v) if acceleration else (lambda v: 1000 * v)
     x = range(len(labels))
-    ax.bar([i - 0.2 for i in x], [1000 * v for v in before], 0.4, label="before (the robot's descriptor)")
-    ax.bar([i + 0.2 for i in x], [1000 * v for v in after], 0.4, label="after the fit")
+    ax.bar([i - 0.2 for i in x], [show(v) for v in before], 0.4, label="before (the robot's descriptor)")
+    ax.bar([i + 0.2 for i in x], [show(v) for v in after], 0.4, label="after the fit")
     ax.set_xticks(list(x))
     ax.set_xticklabels(labels)
-    ax.set_ylabel("error x 1000 (mm or mrad; relative for error = stats)")
-    ax.set_title("calibration error before and after", fontsize=10)
+    ax.set_ylabel("paper 004's F = 1 - |a_sim - a_rec| / |a_rec|" if acceleration else
+                  "error x 1000 (mm or mrad; relative for error = stats)")
+    ax.set_title("calibration %s before and after" % ("fitness F" if acceleration else "error"),
+                 fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()
     out = f"{args.out_prefix}-errors.svg"
     fig.savefig(out)
     print(out)
+    if acceleration:
+        return accelerations(args, sets, channels)
 
     fig, ax = plt.subplots(figsize=(6, 3.6))
     names, rb, ra = [], [], []

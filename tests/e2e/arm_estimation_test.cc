@@ -67,7 +67,10 @@ TEST(ArmEstimation, ThePapersGaRecoversTheArmsStiffnessAndDamping) {
   EXPECT_LT(fitness_of("train_before"), 0.9);
   EXPECT_GE(fitness_of("train_after"), 0.99);
   EXPECT_GT(fitness_of("held_out_after"), fitness_of("held_out_before"));
-  EXPECT_NE(ReadFile(dir.File("runs/plots/" + id + "-overlays.svg")).find("<svg"), std::string::npos);
+  for (const char* f : {"-overlays.svg", "-errors.svg", "-accelerations.svg"})
+    EXPECT_NE(ReadFile(dir.File("runs/plots/" + id + f)).find("<svg"), std::string::npos) << f;
+  EXPECT_THAT(run.err, HasSubstr("-accelerations.svg"));  // listed among the files written
+  EXPECT_THAT(run.err, ::testing::Not(HasSubstr("-distance-ratio.svg")));  // the arm does not walk
 }
 
 TEST(ArmEstimation, APlaybackInputWithoutARodIsRefused) {

@@ -272,7 +272,9 @@ absl::Status Accelerations(Context& c) {
   const int64_t n = std::llround((c.rec.t.back() - t0) / c.dt) + 1;
   int64_t end = n - kSavitzkyGolayHalfWindow;
   if (c.s.window_s > 0) end = std::min<int64_t>(end, std::llround(c.s.window_s / c.dt) + 1);
-  const int64_t begin = kSavitzkyGolayHalfWindow;
+  // A gait's settle cycles are left out as in the other modes (settle_t is 0 for a playback).
+  const int64_t begin = std::max<int64_t>(
+      kSavitzkyGolayHalfWindow, static_cast<int64_t>(std::ceil((c.settle_t - c.offset - t0) / c.dt - 1e-9)));
   if (end - begin < 1)
     return absl::InvalidArgumentError(absl::StrCat(
         "error = acceleration compares samples with ", kSavitzkyGolayHalfWindow,
