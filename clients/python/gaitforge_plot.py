@@ -228,9 +228,10 @@ def second_derivative(x, dt):
     return out
 
 
-def accelerations(args, sets, channels):
-    """Recorded and simulated accelerations of the compared channels (the error's filter on
-    both), before and after the fit: what error = acceleration compares."""
+def overlay_grid(sets, channels, transform, unit, title, out):
+    """One row per recording, one column per channel: the recorded channel (black), the
+    model before the fit (dashed) and after it (solid), at the recorded times plus the fit's
+    time shift with the mean offset removed, each through transform(x, dt)."""
     fig, axes = plt.subplots(len(sets), len(channels), figsize=(3.2 * len(channels), 2.4 * len(sets)),
                              squeeze=False)
     for row, (kind, before, after) in enumerate(sets):
@@ -241,24 +242,30 @@ def accelerations(args, sets, channels):
             if ch not in real:
                 ax.set_visible(False)
                 continue
-            ax.plot(real["t"], second_derivative(real[ch], dt), color="k", lw=1.2, label="recorded")
+            ax.plot(real["t"], transform(real[ch], dt), color="k", lw=1.2, label="recorded")
             for res, color, name in ((before, "tab:blue", "before"), (after, "tab:red", "after")):
                 if res.get("sim"):
                     shift = res["metrics"].get("time_shift_s_0", 0.0) + res.get("time_offset_s", 0.0)
-                    sim = aligned(real, res["sim"], ch, shift)
-                    ax.plot(real["t"], second_derivative(sim, dt), color=color, lw=0.9,
-                            ls="--" if name == "before" else "-", label=f"model {name} fit")
-            ax.set_title(f"{kind} {row}: {ch}'' (m/s^2)", fontsize=8)
+                    ax.plot(real["t"], transform(aligned(real, res["sim"], ch, shift), dt),
+                            color=color, lw=0.9, ls="--" if name == "before" else "-",
+                            label=f"model {name} fit")
+            ax.set_title(f"{kind} {row}: {ch}{unit}", fontsize=8)
             ax.tick_params(labelsize=7)
             if row == len(sets) - 1:
                 ax.set_xlabel("t (s)", fontsize=8)
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle("recorded vs simulated accelerations (Savitzky-Golay, 9 samples), before and "
-                 "after the fit (cf. paper 004's estimation)", fontsize=10)
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    out = f"{args.out_prefix}-accelerations.svg"
     fig.savefig(out)
     print(out)
+
+
+def accelerations(args, sets, channels):
+    """Recorded and simulated accelerations of the compared channels (the error's filter on
+    both), before and after the fit: what error = acceleration compares."""
+    overlay_grid(sets, channels, second_derivative, "'' (m/s^2)",
+                 "recorded vs simulated accelerations (Savitzky-Golay, 9 samples), before and "
+                 "after the fit (cf. paper 004's estimation)", f"{args.out_prefix}-accelerations.svg")
     return 0
 
 
@@ -270,32 +277,9 @@ def calibration(args):
     sets = [("train", b, a) for b, a in zip(train_b, train_a)] + \
            [("held-out", b, a) for b, a in zip(held_b, held_a)]
     channels = overlay_channels(rep, read_csv(sets[0][1]["file"]) if sets else {})
-    fig, axes = plt.subplots(len(sets), len(channels), figsize=(3.2 * len(channels), 2.4 * len(sets)),
-                             squeeze=False)
-    for row, (kind, before, after) in enumerate(sets):
-        real = read_csv(before["file"])
-        for col, ch in enumerate(channels):
-            ax = axes[row, col]
-            if ch not in real:
-                ax.set_visible(False)
-                continue
-            ax.plot(real["t"], real[ch], color="k", lw=1.2, label="recorded")
-            for res, color, name in ((before, "tab:blue", "before"), (after, "tab:red", "after")):
-                if res.get("sim"):
-                    shift = res["metrics"].get("time_shift_s_0", 0.0) + res.get("time_offset_s", 0.0)
-                    ax.plot(real["t"], aligned(real, res["sim"], ch, shift), color=color, lw=0.9,
-                            ls="--" if name == "before" else "-", label=f"model {name} fit")
-            ax.set_title(f"{kind} {row}: {ch}", fontsize=8)
-            ax.tick_params(labelsize=7)
-            if row == len(sets) - 1:
-                ax.set_xlabel("t (s)", fontsize=8)
-    axes[0, 0].legend(fontsize=7)
-    fig.suptitle("recorded vs simulated channels, before and after the fit "
-                 "(cf. paper 000 Figs. 11, 12; paper 003 Fig. 5)", fontsize=10)
-    fig.tight_layout()
-    out = f"{args.out_prefix}-overlays.svg"
-    fig.savefig(out)
-    print(out)
+    overlay_grid(sets, channels, lambda x, dt: x, "",
+                 "recorded vs simulated channels, before and after the fit "
+                 "(cf. paper 000 Figs. 11, 12; paper 003 Fig. 5)", f"{args.out_prefix}-overlays.svg")
 
     def err(rs):
         vals = [r["metrics"].get("error", float("nan")) for r in rs if r["valid"]]
