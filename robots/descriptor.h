@@ -206,6 +206,22 @@ struct Ground {
   std::string friction_load = "corner";
 };
 
+// Tracking a path with a marker (`tracking:`; docs/robots.md, "Tracking"): paper 004's
+// kinematic PID. Each control tick the marker's error e (reference minus position, on
+// `axes`) becomes every tendon's rod-length error dl_k = (a_k . e) / lever, a_k the rod's
+// attach point on its distal body, and a PID on dl_k gives the rod's force change (N). Only
+// tendon actuators are steered; a model's feed-forward (workers/models/generic/
+// generic_tracking.h) adds to it.
+struct Tracking {
+  std::string marker;     // a marker sensor's name
+  std::vector<int> axes;  // 0 x, 1 y, 2 z: the axes steered and measured, in order
+  Expr lever;             // m the marker moves per radian of bend (> 0)
+  Expr kp, ki, kd;        // N/m, N/(m s), N s/m on each rod's length error
+  Expr rate_hz;           // the control loop's rate
+  Expr lead_s;            // s from rest to the path's start, the reference eased there
+  Mark mark;
+};
+
 // The report figure kinds a descriptor may offer (`figures:`; docs/robots.md):
 // paper_gait: gait diagrams, period sweep and travelling waves of the best gaits and the
 // best one's markers (paper 000's figures, drawn with gaitforge-sim's tools).
@@ -246,6 +262,7 @@ struct RobotDescriptor {
   std::string plane;
   // Bodies not joined by a joint touch each other (frictionless); off: they pass through.
   bool self_contact = false;
+  std::optional<Tracking> tracking;  // none: the robot does not track paths
 
   const Parameter* FindParameter(std::string_view name) const;
   const Scale* FindScale(std::string_view name) const;

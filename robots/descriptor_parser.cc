@@ -11,6 +11,7 @@
 #include "robots/controllers.h"
 #include "robots/relations.h"
 #include "robots/structure_parser.h"
+#include "robots/tracking_parser.h"
 #include "robots/suspects_parser.h"
 #include "robots/yaml_fields.h"
 
@@ -313,7 +314,7 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "objectives", "parameters",
                                        "counts", "scales", "suspects", "relations", "controller", "sensors",
                                        "bodies", "joints", "actuators", "ground", "plane",
-                                       "self_contact"});
+                                       "self_contact", "tracking"});
       !s.ok())
     return s;
   RobotDescriptor d;
@@ -336,6 +337,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   if (Status s = ParseStructure(f, root, d); !s.ok()) return s;
   if (root["sensors"])
     if (Status s = ParseSensors(f, root["sensors"], d); !s.ok()) return s;
+  if (root["tracking"])
+    if (Status s = ParseTracking(f, root["tracking"], d); !s.ok()) return s;
   if (Status s = d.CheckRelations([&d](const std::string& n) { return d.Value(n); }); !s.ok())
     return s;
   return d;

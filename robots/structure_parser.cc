@@ -361,6 +361,11 @@ Status ReadVec3(const YamlFields& f, const YAML::Node& node, const std::string& 
   return ReadVec(f, node, path, d, out);
 }
 
+Status ReadExprField(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                     const RobotDescriptor& d, Expr& out) {
+  return ReadExpr(f, node, path, d, out);
+}
+
 Status ParseStructure(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d) {
   if (root["plane"]) {
     auto plane = f.String(root["plane"], "plane");

@@ -12,6 +12,11 @@ namespace gaitforge::robots {
 absl::Status ReadVec3(const YamlFields& f, const YAML::Node& node, const std::string& path,
                       const RobotDescriptor& d, Vec3Expr& out);
 
+// A number, a parameter's name or a linear expression of them (expr.h); its names must be
+// parameters of d.
+absl::Status ReadExprField(const YamlFields& f, const YAML::Node& node, const std::string& path,
+                           const RobotDescriptor& d, Expr& out);
+
 // Reads whichever of root's bodies, joints, actuators and ground are present into d.
 absl::Status ParseStructure(const YamlFields& f, const YAML::Node& root, RobotDescriptor& d);
 

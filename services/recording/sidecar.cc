@@ -265,14 +265,21 @@ class SidecarReader {
     if (!kind.ok()) return kind.status();
     if (auto st = String(*kind, "command.kind", &out.meta.command_kind); !st.ok()) return st;
     out.command_mark = {kind->Mark().line + 1, kind->Mark().column + 1};
-    if (out.meta.command_kind == "playback") {
-      // The actuators take the recording's own input columns (ParseRecording checks them).
+    if (out.meta.command_kind == "playback" || out.meta.command_kind == "path") {
+      // A playback's actuators take the recording's own input columns (ParseRecording checks
+      // them); a path is where a tracking controller should take a marker.
       if (cmd.count("genes"))
-        return Error(cmd["genes"], "key 'command.genes': a playback has no genes (its "
-                                   "actuators follow the recording's input columns)");
+        return Error(cmd["genes"], absl::StrCat("key 'command.genes': a ", out.meta.command_kind,
+                                                " has no genes (",
+                                                out.meta.command_kind == "path"
+                                                    ? "it is a marker's reference positions"
+                                                    : "its actuators follow the recording's "
+                                                      "input columns",
+                                                ")"));
     } else if (out.meta.command_kind != "gait") {
       return Error(*kind, absl::StrCat("key 'command.kind': unknown command kind '",
-                                       Quote(out.meta.command_kind), "' (known: gait, playback)"));
+                                       Quote(out.meta.command_kind),
+                                       "' (known: gait, playback, path)"));
     } else if (auto st = ParseGenes(*command, cmd, *out.robot, out.meta); !st.ok()) {
       return st;
     }

@@ -23,26 +23,6 @@
 namespace gaitforge::simtool {
 namespace {
 
-// The descriptor's values with the model overrides (not the nuisance ones) applied.
-absl::StatusOr<generic::ParamValues> Values(const GenericRun& run) {
-  generic::ParamValues v(*run.robot);
-  for (const auto& [name, value] : run.overrides) {
-    if (name == calibration::kTimeOffsetGene) continue;
-    if (auto s = v.Set(name, value); !s.ok()) return absl::InvalidArgumentError(absl::StrCat("--set ", s.message()));
-  }
-  return v;
-}
-
-absl::StatusOr<recording::Recording> Read(const std::string& path, const GenericRun& run) {
-  std::ifstream csv_in(path, std::ios::binary), side_in(path + ".json", std::ios::binary);
-  if (!csv_in || !side_in)
-    return absl::NotFoundError(absl::StrCat("cannot read ", path, " and ", path, ".json"));
-  std::stringstream csv, side;
-  csv << csv_in.rdbuf();
-  side << side_in.rdbuf();
-  return recording::ParseRecording(csv.str(), side.str(), path, path + ".json", {}, run.robot);
-}
-
 std::string MetricsJson(const objectives::EvalResult& r) {
   std::string json;
   int k = 0;
@@ -53,6 +33,25 @@ std::string MetricsJson(const objectives::EvalResult& r) {
 
 }  // namespace
 
+absl::StatusOr<generic::ParamValues> RunValues(const GenericRun& run) {
+  generic::ParamValues v(*run.robot);
+  for (const auto& [name, value] : run.overrides) {
+    if (name == calibration::kTimeOffsetGene) continue;
+    if (auto s = v.Set(name, value); !s.ok()) return absl::InvalidArgumentError(absl::StrCat("--set ", s.message()));
+  }
+  return v;
+}
+
+absl::StatusOr<recording::Recording> ReadRecording(const std::string& path, const GenericRun& run) {
+  std::ifstream csv_in(path, std::ios::binary), side_in(path + ".json", std::ios::binary);
+  if (!csv_in || !side_in)
+    return absl::NotFoundError(absl::StrCat("cannot read ", path, " and ", path, ".json"));
+  std::stringstream csv, side;
+  csv << csv_in.rdbuf();
+  side << side_in.rdbuf();
+  return recording::ParseRecording(csv.str(), side.str(), path, path + ".json", {}, run.robot);
+}
+
 absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>& genes,
                                const std::string& out) {
   const robots::RobotDescriptor& d = *run.robot;
@@ -60,7 +59,7 @@ absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>&
     return absl::InvalidArgumentError(absl::StrCat("--genes: ", d.name, " takes ",
                                                    d.controller.genes.size(), " genes, got ",
                                                    genes.size()));
-  auto values = Values(run);
+  auto values = RunValues(run);
   if (!values.ok()) return values.status();
   if (run.engine != "ode" && run.engine != "mujoco")
     return absl::InvalidArgumentError("--engine " + run.engine + ": one of ode, mujoco");
@@ -87,7 +86,7 @@ absl::Status GenericPlayback(const GenericRun& run, const std::string& inputs,
   auto rec = recording::ParseRecording(csv.str(), sidecar, inputs, inputs + " (a playback)", {},
                                        run.robot);
   if (!rec.ok()) return rec.status();
-  auto values = Values(run);
+  auto values = RunValues(run);
   if (!values.ok()) return values.status();
   double offset = 0;
   for (const auto& [name, value] : run.overrides)
@@ -120,14 +119,14 @@ absl::StatusOr<std::string> GenericCalibrationEval(const GenericRun& run,
     std::filesystem::create_directories(out_dir, ec);
     if (ec) return absl::InvalidArgumentError(absl::StrCat("--out-dir ", out_dir, ": ", ec.message()));
   }
-  auto values = Values(run);
+  auto values = RunValues(run);
   if (!values.ok()) return values.status();
   const generic::RobotCalibrationObjective objective;
   std::string json = "{\"recordings\": [";
   int i = 0;
   for (const auto& part : absl::StrSplit(recordings, ',', absl::SkipEmpty())) {
     const std::string path(part);
-    auto rec = Read(path, run);
+    auto rec = ReadRecording(path, run);
     if (!rec.ok()) return rec.status();
     objectives::EvalInput in;
     for (const auto& [name, value] : run.overrides) {

@@ -9,6 +9,8 @@
 
 #include "absl/status/statusor.h"
 #include "robots/descriptor.h"
+#include "services/recording/recording.h"
+#include "workers/models/generic/generic_world.h"
 
 namespace gaitforge::simtool {
 
@@ -23,6 +25,13 @@ struct GenericRun {
   // an independent build: workers/models/mujoco/).
   std::string engine = "ode";
 };
+
+// The descriptor's values with run.overrides applied (not the nuisance ones); the error
+// names the bad --set.
+absl::StatusOr<generic::ParamValues> RunValues(const GenericRun& run);
+
+// A recording CSV and its sidecar (path + ".json"), parsed for run.robot.
+absl::StatusOr<recording::Recording> ReadRecording(const std::string& path, const GenericRun& run);
 
 // The robot's channels over the measured cycles of `genes` after the settle cycles from
 // rest (times counted from rest), written as a recording CSV at `out` with its sidecar. The error names a bad gene count, a bad --set

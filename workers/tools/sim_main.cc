@@ -19,6 +19,7 @@
 #include "workers/sim/ode_runtime.h"
 #include "workers/tools/generic_sim.h"
 #include "workers/tools/sim_tool.h"
+#include "workers/tools/sim_track.h"
 
 using namespace gaitforge;
 
@@ -41,6 +42,8 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
 struct Args {
   std::string cmd, robot, genes, out, set, recordings, options, params, out_dir, engine, inputs;
   std::string scales, periods;
+  simtool::TrackArgs track;
+  bool open_loop = false;
   double rate = 100;
   int cycles = 10, settle = 2, threads = 1;
 };
@@ -106,6 +109,15 @@ int Run(const Args& a) {
   run.overrides = *overrides;
   sim::InitProcess();
   if (a.cmd == "period-sweep" || a.cmd == "wave") return RunSweep(a, run);
+  if (a.cmd == "track") {
+    simtool::TrackArgs t = a.track;
+    t.out = a.out;
+    t.feedback = !a.open_loop;
+    auto json = simtool::GenericTrack(run, t);
+    if (!json.ok()) return Fail(json.status(), json.status().code() == absl::StatusCode::kAborted ? 1 : 2);
+    std::cout << *json << "\n";
+    return 0;
+  }
   if (a.cmd == "trajectory" && !a.inputs.empty()) {
     if (a.out.empty()) return Fail(absl::InvalidArgumentError("trajectory needs --out FILE.csv"), 2);
     if (auto s = simtool::GenericPlayback(run, a.inputs, a.out); !s.ok())
@@ -145,7 +157,7 @@ int main(int argc, char** argv) {
   std::string params_path, error_kind, metric, max_shift;
   a.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   core::Flags flags(
-      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval [flags]",
+      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track [flags]",
       "One-shot simulations of a robot on the generic builder (--robot; the caterpillar by\n"
       "default), with the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: the robot's channels over settle + measured\n"
@@ -154,7 +166,10 @@ int main(int argc, char** argv) {
       "  period-sweep  --genes G: distance per cycle with the period scaled (--scales), JSON\n"
       "  wave          paper 000's travelling waves over periods (--periods), JSON\n"
       "  calibration-eval  --recordings A.csv,B.csv [--set ...]: the calibration objective's\n"
-      "                errors against recordings, and the simulated channels (--out-dir), JSON");
+      "                errors against recordings, and the simulated channels (--out-dir), JSON\n"
+      "  track         --path PATH.csv [--feedforward model --model-set ...]: the robot (with\n"
+      "                --set: the plant) follows a path with its tracking PID; errors as JSON,\n"
+      "                every control tick as CSV (--out)");
   flags.Add("robot", &a.robot,
             "the robot: a built-in's name or a descriptor file (docs/robots.md); default "
             "caterpillar");
@@ -185,6 +200,15 @@ int main(int argc, char** argv) {
             "calibration-eval: the objective's options NAME=VALUE;... (error, metric, channels)");
   flags.Add("objective-params", &a.params,
             "calibration-eval: the objective's params NAME=VALUE,... (max_shift_samples, ...)");
+  flags.Add("path", &a.track.path, "track: a path recording (CSV + .json, command kind path)");
+  flags.Add("feedforward", &a.track.feedforward,
+            "track: none (the PID alone) or model (plus the feed-forward learned on the model "
+            "--model-set describes)");
+  flags.Add("model-set", &a.track.model_set,
+            "track: the model's parameter overrides NAME=VALUE,... (default: the descriptor's)");
+  flags.Add("ff-iterations", &a.track.ff_iterations,
+            "track: model runs that learn the feed-forward (1..1000, default 20)");
+  flags.AddBool("open-loop", &a.open_loop, "track: the feed-forward alone, no PID");
   flags.Add("out-dir", &a.out_dir, "calibration-eval: write each recording's simulated channels here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) return Fail(s, 2);
   if (flags.help_requested() || flags.positional().size() != 1) {

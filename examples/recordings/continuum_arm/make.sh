@@ -44,3 +44,36 @@ record step-a 1 "(0.3025, 0.3263, -0.1265)"
 record step-b 1 "(-0.2, 0.1, 0.4)"
 record step-c 1 "(0.35, -0.3, 0.05)"
 record swing 2 "tuple(0.3 * math.sin(2 * math.pi * 1.3 * t + p) for p in (0, 2.1, 4.2))"
+
+# Paper 004's tracking path (eq. 14): every joint at psi = rho (sin phi, cos phi),
+# rho = a (2 pi + pi cos phi) / (6 N), phi = pi t / 10 - pi over 20 s (one loop), the tip where
+# the chain of N links of L / N puts it (each joint turning by Rx(psi_x) Ry(psi_y)), at 50 Hz
+# (the control rate). N = 5 and L = 0.3 m are the paper's (robot.yaml's defaults). a = 1/2:
+# the paper's bend of 30 to 90 degrees is out of reach of this arm hanging under gravity (its
+# tip gets at most 0.18 m from the axis; the loop asks 0.22 m), so the loop bends 15 to 45.
+/usr/bin/python3 - "$here/eq14.csv" <<'PY'
+import json, math, sys
+import numpy as np
+out, lumps, length, a = sys.argv[1], 5, 0.3, 0.5
+def rot(axis, angle):
+    c, s = math.cos(angle), math.sin(angle)
+    if axis == "x":
+        return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+with open(out, "w") as f:
+    f.write("t,tip.x,tip.y,tip.z\n")
+    for k in range(20 * 50 + 1):
+        t = k / 50
+        phi = math.pi * t / 10 - math.pi
+        rho = a * (2 * math.pi + math.pi * math.cos(phi)) / (6 * lumps)
+        joint = rot("x", rho * math.sin(phi)) @ rot("y", rho * math.cos(phi))
+        tip, frame = np.zeros(3), np.eye(3)
+        for _ in range(lumps):
+            frame = frame @ joint
+            tip += frame @ np.array([0.0, 0.0, -length / lumps])
+        f.write("%.4f,%.9g,%.9g,%.9g\n" % (t, tip[0], tip[1], tip[2]))
+meta = {"robot": "continuum_arm", "command": {"kind": "path"},
+        "source": "paper 004, eq. 14, at half its bend",
+        "note": "the tracking path; made by examples/recordings/continuum_arm/make.sh"}
+json.dump(meta, open(out + ".json", "w"), indent=1)
+PY

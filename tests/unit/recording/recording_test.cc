@@ -412,7 +412,7 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"UnknownKind", kCsv,
                   Side(kRobot + "  \"command\": {\"kind\": \"walk\", \"genes\": []}"),
                   "rec.csv.json:3:23: key 'command.kind': unknown command kind 'walk' "
-                  "(known: gait, playback)"},
+                  "(known: gait, playback, path)"},
         ErrorCase{"WrongGeneCount", kCsv,
                   Side(kRobot + "  \"command\": {\"kind\": \"gait\", \"genes\": [1, 2]}"),
                   "rec.csv.json:3:40: key 'command.genes': the caterpillar takes 13 genes "

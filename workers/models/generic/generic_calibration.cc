@@ -21,6 +21,10 @@ absl::StatusOr<calibration::Comparison> Compare(const robots::RobotDescriptor& d
   if (rec.meta.robot != d.name)
     return absl::InvalidArgumentError(
         absl::StrCat("a recording of robot '", rec.meta.robot, "', not ", d.name));
+  if (rec.meta.command_kind == "path")
+    return absl::InvalidArgumentError(
+        "a path recording (command kind path) is a reference for tracking, not a recording "
+        "of the robot moving: calibrate against gait or playback recordings");
   if (rec.meta.command_kind == "playback")
     return calibration::CompareRecording(rec, 0, offset, s, [&](double duration, double rate_hz) {
       return SimulatePlayback(d, values, rec, offset, duration, rate_hz, s.timestep_s);
