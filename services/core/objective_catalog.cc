@@ -141,6 +141,26 @@ std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
        true,
        {"nuisance.time_offset_s"},
        true},
+      {"robot.tracking",
+       "paper 004's tracking by any generic robot with a tracking section (objective.robot): "
+       "it follows each recording (a path of its tracked marker) from rest with its PID; "
+       "fitness = -(mean over the paths of ISTE, or the max or RMS error: option fitness); "
+       "genes are its calibratable parameters named in bounds (the PID's gains tracking.kp, "
+       "ki, kd), set on the robot that tracks (the descriptor with option set); option "
+       "feedforward model adds the feed-forward learned on the descriptor with option "
+       "model_set; metrics max_error_m, rms_error_m, iste, model_rms_error_m",
+       {{"ff_iterations", 1, 200, 20, "model runs that learn the feed-forward", true}},
+       {},
+       0,
+       {{"feedforward", {"none", "model"}},
+        {"fitness", {"iste", "max", "rms"}},
+        {"set", {}},
+        {"model_set", {}}},
+       true,
+       "",
+       true,
+       {},
+       true},
   };
 }
 

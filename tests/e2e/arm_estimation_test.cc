@@ -26,7 +26,7 @@ TEST(ArmEstimation, TheShippedRecordingsAreWhatMakeShMakes) {
   ASSERT_EQ(RunCommand("cp " + kRecordings + "/make.sh " + dir.path()).exit_code, 0);
   auto made = RunCommand("GAITFORGE_SIM=" + Bin("gaitforge-sim") + " " + dir.File("make.sh"));
   ASSERT_EQ(made.exit_code, 0) << made.err;
-  for (const char* name : {"step-a.csv", "step-b.csv", "step-c.csv", "swing.csv"}) {
+  for (const char* name : {"step-a.csv", "step-b.csv", "step-c.csv", "swing.csv", "eq14.csv"}) {
     EXPECT_EQ(ReadFile(dir.File(name)), ReadFile(kRecordings + "/" + name)) << name;
     EXPECT_EQ(ReadFile(dir.File(std::string(name) + ".json")),
               ReadFile(kRecordings + "/" + name + ".json")) << name;

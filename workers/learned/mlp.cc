@@ -70,7 +70,9 @@ absl::StatusOr<Activation> ActivationOf(const std::string& name) {
 }
 
 Eigen::VectorXd Mlp::Eval(const Eigen::VectorXd& x) const {
-  Eigen::VectorXd a = (x - in_mean).cwiseQuotient(in_sd);
+  Eigen::VectorXd held = x;
+  if (in_min.size() == x.size()) held = x.cwiseMax(in_min).cwiseMin(in_max);
+  Eigen::VectorXd a = (held - in_mean).cwiseQuotient(in_sd);
   for (size_t l = 0; l < layers.size(); ++l) {
     a = layers[l].w * a + layers[l].b;
     if (l + 1 < layers.size()) a = Activate(activation, a);
@@ -89,7 +91,10 @@ std::string Mlp::ToJson() const {
                                   ",\n \"activation\": \"", ActivationName(activation), "\",\n");
   absl::StrAppend(&json, " \"input_mean\": ", Numbers(in_mean), ",\n \"input_sd\": ",
                   Numbers(in_sd), ",\n \"output_mean\": ", Numbers(out_mean),
-                  ",\n \"output_sd\": ", Numbers(out_sd), ",\n \"layers\": [");
+                  ",\n \"output_sd\": ", Numbers(out_sd), ",\n");
+  if (in_min.size() > 0)
+    absl::StrAppend(&json, " \"input_min\": ", Numbers(in_min), ",\n \"input_max\": ", Numbers(in_max), ",\n");
+  absl::StrAppend(&json, " \"layers\": [");
   for (size_t l = 0; l < layers.size(); ++l) {
     std::vector<std::string> rows;
     for (Eigen::Index r = 0; r < layers[l].w.rows(); ++r)
@@ -125,6 +130,15 @@ absl::StatusOr<Mlp> Mlp::FromJson(const std::string& text, const std::string& so
       auto v = Vector(root[key], source, key, size);
       if (!v.ok()) return v.status();
       *out = *v;
+    }
+    if (root["input_min"] || root["input_max"]) {
+      auto lo = Vector(root["input_min"], source, "input_min", n_in);
+      if (!lo.ok()) return lo.status();
+      auto hi = Vector(root["input_max"], source, "input_max", n_in);
+      if (!hi.ok()) return hi.status();
+      if (!(lo->array() <= hi->array()).all()) return Bad(source, "input_min", "must not exceed input_max");
+      m.in_min = *lo;
+      m.in_max = *hi;
     }
     if (!(m.in_sd.array() > 0).all() || !(m.out_sd.array() > 0).all())
       return Bad(source, "input_sd", "every sd must be > 0");

@@ -138,6 +138,12 @@ absl::StatusOr<Mlp> Train(const std::vector<std::string>& input_names,
   const std::vector<size_t> test(order.begin(), order.begin() + n_test), train(order.begin() + n_test, order.end());
   Mlp m{input_names, output_names, o.activation, {}, {}, {}, {}, {}};
   Standardisation(x, train, m.in_mean, m.in_sd);
+  m.in_min = m.in_max = Eigen::Map<const Eigen::VectorXd>(x[train.front()].data(), x[train.front()].size());
+  for (size_t j : train) {
+    const Eigen::Map<const Eigen::VectorXd> row(x[j].data(), x[j].size());
+    m.in_min = m.in_min.cwiseMin(row);
+    m.in_max = m.in_max.cwiseMax(row);
+  }
   Standardisation(y, train, m.out_mean, m.out_sd);
   int width = static_cast<int>(input_names.size());
   std::vector<int> sizes = o.hidden;

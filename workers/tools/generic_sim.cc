@@ -33,11 +33,24 @@ std::string MetricsJson(const objectives::EvalResult& r) {
 
 }  // namespace
 
+absl::StatusOr<learned::Mlp> ReadMlp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot read the learned model ", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  return learned::Mlp::FromJson(text.str(), path);
+}
+
 absl::StatusOr<generic::ParamValues> RunValues(const GenericRun& run) {
   generic::ParamValues v(*run.robot);
   for (const auto& [name, value] : run.overrides) {
     if (name == calibration::kTimeOffsetGene) continue;
     if (auto s = v.Set(name, value); !s.ok()) return absl::InvalidArgumentError(absl::StrCat("--set ", s.message()));
+  }
+  if (!run.learned.empty()) {
+    auto mlp = ReadMlp(run.learned);
+    if (!mlp.ok()) return mlp.status();
+    v.SetLearned(std::make_shared<learned::Mlp>(*std::move(mlp)));
   }
   return v;
 }

@@ -10,6 +10,7 @@
 #include "absl/status/statusor.h"
 #include "robots/descriptor.h"
 #include "services/recording/recording.h"
+#include "workers/learned/mlp.h"
 #include "workers/models/generic/generic_world.h"
 
 namespace gaitforge::simtool {
@@ -19,6 +20,7 @@ struct GenericRun {
   std::string robot_path;     // the descriptor file ("" for a built-in robot)
   std::string robot_text;     // its text (what a study carries)
   std::vector<std::pair<std::string, double>> overrides;  // --set, in order
+  std::string learned;  // --learned: an MLP file setting parameters from the state (or "")
   double rate_hz = 100;
   int settle_cycles = 2, cycles = 10;
   // trajectory: the engine that builds the robot ("ode", the studies' build, or "mujoco",
@@ -26,8 +28,11 @@ struct GenericRun {
   std::string engine = "ode";
 };
 
-// The descriptor's values with run.overrides applied (not the nuisance ones); the error
-// names the bad --set.
+// An MLP file (docs/learned-models.md), read and checked.
+absl::StatusOr<learned::Mlp> ReadMlp(const std::string& path);
+
+// The descriptor's values with run.overrides applied (not the nuisance ones) and run.learned
+// attached; the error names the bad --set or file.
 absl::StatusOr<generic::ParamValues> RunValues(const GenericRun& run);
 
 // A recording CSV and its sidecar (path + ".json"), parsed for run.robot.

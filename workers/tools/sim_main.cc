@@ -19,6 +19,7 @@
 #include "workers/sim/ode_runtime.h"
 #include "workers/tools/generic_sim.h"
 #include "workers/tools/sim_tool.h"
+#include "workers/tools/sim_learn.h"
 #include "workers/tools/sim_track.h"
 
 using namespace gaitforge;
@@ -41,8 +42,9 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
 
 struct Args {
   std::string cmd, robot, genes, out, set, recordings, options, params, out_dir, engine, inputs;
-  std::string scales, periods;
+  std::string scales, periods, learned;
   simtool::TrackArgs track;
+  simtool::LearnArgs learn;
   bool open_loop = false;
   double rate = 100;
   int cycles = 10, settle = 2, threads = 1;
@@ -107,8 +109,19 @@ int Run(const Args& a) {
   auto overrides = simtool::ParseOverrides(a.set);
   if (!overrides.ok()) return Fail(overrides.status(), 2);
   run.overrides = *overrides;
+  run.learned = a.learned;
   sim::InitProcess();
   if (a.cmd == "period-sweep" || a.cmd == "wave") return RunSweep(a, run);
+  if (a.cmd == "learn-parameters") {
+    simtool::LearnArgs l = a.learn;
+    l.recordings = a.recordings;
+    l.threads = a.threads;
+    l.out = a.out;
+    auto json = simtool::GenericLearn(run, l);
+    if (!json.ok()) return Fail(json.status(), 2);
+    std::cout << *json << "\n";
+    return 0;
+  }
   if (a.cmd == "track") {
     simtool::TrackArgs t = a.track;
     t.out = a.out;
@@ -157,7 +170,7 @@ int main(int argc, char** argv) {
   std::string params_path, error_kind, metric, max_shift;
   a.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   core::Flags flags(
-      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track [flags]",
+      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track|learn-parameters [flags]",
       "One-shot simulations of a robot on the generic builder (--robot; the caterpillar by\n"
       "default), with the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: the robot's channels over settle + measured\n"
@@ -169,7 +182,10 @@ int main(int argc, char** argv) {
       "                errors against recordings, and the simulated channels (--out-dir), JSON\n"
       "  track         --path PATH.csv [--feedforward model --model-set ...]: the robot (with\n"
       "                --set: the plant) follows a path with its tracking PID; errors as JSON,\n"
-      "                every control tick as CSV (--out)");
+      "                every control tick as CSV (--out)\n"
+      "  learn-parameters --recordings A.csv,... --params P,... --features tip.x,... --out\n"
+      "                NET.json: paper 004's adaptive model (parameters fitted per playback\n"
+      "                recording, an MLP from state to them), JSON");
   flags.Add("robot", &a.robot,
             "the robot: a built-in's name or a descriptor file (docs/robots.md); default "
             "caterpillar");
@@ -209,6 +225,19 @@ int main(int argc, char** argv) {
   flags.Add("ff-iterations", &a.track.ff_iterations,
             "track: model runs that learn the feed-forward (1..1000, default 20)");
   flags.AddBool("open-loop", &a.open_loop, "track: the feed-forward alone, no PID");
+  flags.Add("learned", &a.learned,
+            "trajectory, track, learn-parameters: an MLP file (docs/learned-models.md) that sets "
+            "the robot's parameters from its state every step");
+  flags.Add("model-learned", &a.track.model_learned,
+            "track: an MLP file (learn-parameters) that sets the model's parameters from its "
+            "state every step: the adaptive model");
+  flags.Add("params-learned", &a.learn.params, "learn-parameters: the parameters to learn, comma separated");
+  flags.Add("features", &a.learn.features,
+            "learn-parameters: the MLP's inputs, channels (.rate: their rate), comma separated");
+  flags.Add("held-out", &a.learn.held_out, "learn-parameters: playback recordings to compare the models on");
+  flags.Add("evaluations", &a.learn.evaluations, "learn-parameters: playbacks per fit (5..100000, default 150)");
+  flags.Add("epochs", &a.learn.epochs, "learn-parameters: MLP training epochs (default 5000)");
+  flags.Add("hidden", &a.learn.hidden, "learn-parameters: hidden units (default 5, paper 004)");
   flags.Add("out-dir", &a.out_dir, "calibration-eval: write each recording's simulated channels here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) return Fail(s, 2);
   if (flags.help_requested() || flags.positional().size() != 1) {

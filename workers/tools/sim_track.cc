@@ -61,6 +61,7 @@ absl::StatusOr<std::string> GenericTrack(const GenericRun& run, const TrackArgs&
   auto model_overrides = ParseOverrides(a.model_set);
   if (!model_overrides.ok()) return model_overrides.status();
   model_run.overrides = *model_overrides;
+  model_run.learned = a.model_learned;
   auto model = RunValues(model_run);
   if (!model.ok())
     return absl::InvalidArgumentError(absl::StrCat("--model-set: ", model.status().message()));

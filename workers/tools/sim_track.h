@@ -12,6 +12,7 @@ struct TrackArgs {
   std::string path;                 // a path recording (CSV with sidecar)
   std::string feedforward = "none";  // none | model
   std::string model_set;            // the model's overrides NAME=VALUE,... (feedforward model)
+  std::string model_learned;        // an MLP file setting the model's parameters (adaptive)
   int ff_iterations = 20;           // model runs that learn the feed-forward
   bool feedback = true;             // false: feed-forward alone
   std::string out;                  // CSV of every tick, "" for none

@@ -7,6 +7,7 @@
 
 #include "robots/registry.h"
 #include "workers/models/generic/generic_calibration.h"
+#include "workers/models/generic/generic_tracking_objective.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/objectives/overrides.h"
 #include "workers/sim/ode_runtime.h"
@@ -154,6 +155,7 @@ void RegisterRobotObjective(objectives::ObjectiveRegistry& registry, const std::
 void RegisterGeneric(objectives::ObjectiveRegistry& registry) {
   registry.Register(kRobotDistanceName, std::make_shared<RobotDistanceObjective>());
   registry.Register(kRobotCalibrationName, std::make_shared<RobotCalibrationObjective>());
+  registry.Register(kRobotTrackingName, std::make_shared<RobotTrackingObjective>());
 }
 
 }  // namespace gaitforge::generic

@@ -203,6 +203,7 @@ sim::SimOutcome GenericWorld::CheckState() {
 
 sim::SimOutcome GenericWorld::Step(const std::vector<double>& commands) {
   try {
+    ApplyLearned();
     ApplyJointTorques();
     ApplyPistons(commands);
     ApplyTendons(commands);

@@ -131,6 +131,7 @@ absl::StatusOr<std::unique_ptr<GenericWorld>> GenericWorld::Build(
   if (absl::Status s = w->BuildJoints(v); !s.ok()) return s;
   if (absl::Status s = w->BuildActuators(v); !s.ok()) return s;
   w->BuildMarkers(v);
+  if (absl::Status s = w->BuildLearned(v); !s.ok()) return s;
   // Without ground (an arm on a mount, a test rig in free space) nothing touches z = 0.
   if (d.ground) {
     w->friction_ = Eval(d.ground->friction, v);

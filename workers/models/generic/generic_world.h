@@ -28,12 +28,14 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include <optional>
 
 #include "absl/status/statusor.h"
 #include "robots/descriptor.h"
 #include "workers/sim/sim_outcome.h"
 #include "workers/models/generic/robot_world.h"
 #include "workers/sim/world.h"
+#include "workers/learned/mlp.h"
 
 namespace gaitforge::generic {
 
@@ -51,12 +53,19 @@ class ParamValues {
   double operator()(const std::string& name) const;
   // An effect parameter's value (0 unless set).
   double Effect(const std::string& name) const;
+  // A learned map from the robot's state to some of its parameters (paper 004's adaptive
+  // model; docs/learned-models.md): its inputs are channels (a ".rate" suffix: the
+  // channel's rate of change), its outputs parameters, which the world sets from it at
+  // every step, each held in its range. Checked when the world is built.
+  void SetLearned(std::shared_ptr<const learned::Mlp> m) { learned_ = std::move(m); }
+  const std::shared_ptr<const learned::Mlp>& learned() const { return learned_; }
 
  private:
   absl::Status SetScale(const robots::Scale& scale, double factor);
   const robots::RobotDescriptor* d_;
   std::vector<double> values_;  // parallel to d_->parameters
   std::map<std::string, double> effects_;
+  std::shared_ptr<const learned::Mlp> learned_;
 };
 
 // The builder effects' values (workers/effects: each 0, the effect absent, unless set), read
@@ -173,6 +182,19 @@ class GenericWorld : public RobotWorld {
   void MeasurePistons();
   sim::SimOutcome CheckPistons() const;
   void ApplyEffects();
+  // The learned parameter map (ParamValues::learned; generic_learned.cc): checked at build,
+  // applied before every step's joint torques.
+  absl::Status BuildLearned(const ParamValues& v);
+  void ApplyLearned();
+  struct Learned {
+    std::shared_ptr<const learned::Mlp> mlp;
+    std::vector<std::string> channels;  // per input, without ".rate"
+    std::vector<bool> rate;             // per input: the channel's rate of change
+    std::vector<double> previous;       // the channels' values at the last step
+    std::vector<const robots::Parameter*> outputs;
+    std::unique_ptr<ParamValues> values;  // the build's values with the outputs set
+  };
+  std::optional<Learned> learned_;
   void ApplyServos(const std::vector<double>& commands);
   void AddGroundContacts();
   sim::SimOutcome CheckState();
