@@ -15,9 +15,21 @@
 #include "gaitforge/v1/recording.grpc.pb.h"
 
 namespace gaitforge::cli {
-namespace {
 
-}  // namespace
+int BestOfStudy(Connection& conn, const std::string& id, const GlobalOptions& g,
+                v1::GetHallOfFameResponse* hof) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::GetHallOfFameRequest hreq;
+  hreq.set_study_id(id);
+  grpc::Status s = conn.study().GetHallOfFame(&ctx, hreq, hof);
+  if (!s.ok()) return ReportRpcError(s, "report " + id);
+  if (hof->entries_size() == 0 || !hof->entries(0).individual().evaluation().valid()) {
+    std::cerr << "gaitforge: report " << id << ": no valid result yet\n";
+    return kFailed;
+  }
+  return kOk;
+}
 
 // Downloads a recording into dir; returns the CSV path ("" on failure, with a message).
 std::string DownloadRecording(Connection& conn, const std::string& hash, const std::string& dir,
@@ -79,17 +91,8 @@ int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std
                       const GlobalOptions& g, std::vector<std::string>* written) {
   const std::string& id = study.study_id();
   const v1::StudySpec& spec = study.spec();
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetHallOfFameRequest hreq;
-  hreq.set_study_id(id);
   v1::GetHallOfFameResponse hof;
-  grpc::Status s = conn.study().GetHallOfFame(&ctx, hreq, &hof);
-  if (!s.ok()) return ReportRpcError(s, "report " + id);
-  if (hof.entries_size() == 0 || !hof.entries(0).individual().evaluation().valid()) {
-    std::cerr << "gaitforge: report " << id << ": no valid fit yet\n";
-    return kFailed;
-  }
+  if (int code = BestOfStudy(conn, id, g, &hof); code != kOk) return code;
   const auto& best = hof.entries(0).individual();
   std::vector<std::string> set;
   for (int i = 0; i < spec.bounds_size() && i < best.genes_size(); ++i)

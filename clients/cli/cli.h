@@ -161,6 +161,18 @@ int CmdRecording(const GlobalOptions& g, const std::vector<std::string>& args,
 int UploadSpecRecordings(Connection& conn, const std::string& spec_path, v1::StudySpec* spec,
                          const GlobalOptions& g);
 
+// The study's hall of fame into hof; kFailed (with a message) when it holds no valid result.
+int BestOfStudy(Connection& conn, const std::string& id, const GlobalOptions& g,
+                v1::GetHallOfFameResponse* hof);
+// A recording the coordinator stores, downloaded into dir with its sidecar; "" on failure.
+std::string DownloadRecording(Connection& conn, const std::string& hash, const std::string& dir,
+                              const GlobalOptions& g);
+// A robot.tracking study's report into out_dir (tracking_report.cc): each path tracked with
+// the descriptor's parameters and with the study's best genes, a JSON of their errors and
+// the tracking figure.
+int TrackingReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
+                   const GlobalOptions& g, std::vector<std::string>* written);
+
 // The calibration study's report into out_dir (calibration_report.cc).
 int CalibrationReport(Connection& conn, const v1::StudySummary& study, const std::string& out_dir,
                       const GlobalOptions& g, std::vector<std::string>* written);

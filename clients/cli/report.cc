@@ -252,6 +252,10 @@ int StudyReport(Connection& conn, const v1::StudySummary& study, const std::stri
                 const GlobalOptions& g, std::vector<std::string>* written) {
   const core::ObjectiveInfo* info = core::FindObjective(study.spec().objective().name());
   if (!info) return kOk;
+  if (info->name == "robot.tracking") {
+    if (!g.json) std::cerr << "tracking the paths with the descriptor's and the best parameters...\n";
+    return TrackingReport(conn, study, out_dir, g, written);
+  }
   if (info->calibration) {
     if (!g.json) std::cerr << "evaluating the fit on training and held-out recordings...\n";
     return CalibrationReport(conn, study, out_dir, g, written);

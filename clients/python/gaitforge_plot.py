@@ -8,6 +8,8 @@
                their period is scaled (Fig. 13), and the travelling-wave baseline (Fig. 14).
   calibration  a calibration study's overlays, errors and distance ratios (`gaitforge report`).
   diagnosis    the gap finder's held-out errors and overlays (gaitforge_diagnosis_figure.py).
+  tracking     a tracking study's path and tip under each controller, and their errors over
+               time (gaitforge_tracking_figure.py; `gaitforge report` on robot.tracking).
   sweep        a sweep study's grid as a heat map over its two most finely gridded genes (best
                over the others), with the Nelder-Mead searches' points and the path of the
                best so far (paper 001's figures; `gaitforge plot` writes the data).
@@ -18,6 +20,7 @@ Usage:
   gaitforge_plot.py calibration --report CALIBRATION.json --out-prefix PREFIX
   gaitforge_plot.py diagnosis --report DIAGNOSIS.json --out FILE.svg
   gaitforge_plot.py sweep --data SWEEP.json --out FILE.svg [--title TEXT]
+  gaitforge_plot.py tracking --run LABEL=TICKS.csv [--run ...] --out FILE.svg [--title TEXT]
 
 The `gaitforge plot ID` command calls this script; run it under /usr/bin/python3 (Debian's
 python3-matplotlib).
@@ -400,6 +403,13 @@ def diagnosis(args):
     return 0
 
 
+def tracking(args):
+    import gaitforge_tracking_figure
+    runs = [run.partition("=")[::2] for run in args.runs]
+    print(gaitforge_tracking_figure.draw(runs, args.out, args.title))
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     sub = ap.add_subparsers(dest="figure", required=True)
@@ -426,6 +436,12 @@ def main():
     g.add_argument("--report", required=True, help="the diagnosis.json `gaitforge diagnose` writes")
     g.add_argument("--out", required=True, help="image file (.svg or .png)")
     g.set_defaults(run=diagnosis)
+    t = sub.add_parser("tracking", help="a path and the tip under each controller, and their errors")
+    t.add_argument("--run", dest="runs", action="append", required=True,
+                   help="LABEL=TICKS.csv (gaitforge-sim track --out)")
+    t.add_argument("--out", required=True, help="image file (.svg or .png)")
+    t.add_argument("--title", default="tracking")
+    t.set_defaults(run=tracking)
     args = ap.parse_args()
     return args.run(args)
 

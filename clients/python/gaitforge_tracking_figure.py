@@ -37,15 +37,10 @@ def read(path):
     return refs, t, ref, pos, err
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--run", action="append", required=True, help="LABEL=TICKS.csv")
-    p.add_argument("--out", required=True)
-    p.add_argument("--title", default="Tracking")
-    args = p.parse_args()
+def draw(runs, out, title="Tracking"):
+    """runs: (label, ticks CSV) pairs; draws the figure to `out` and returns its path."""
     fig, (path_ax, err_ax) = plt.subplots(1, 2, figsize=(11, 4.6))
-    for k, run in enumerate(args.run):
-        label, _, file = run.partition("=")
+    for k, (label, file) in enumerate(runs):
         refs, t, ref, pos, err = read(file)
         a, b = refs[0], refs[1] if len(refs) > 1 else refs[0]
         if k == 0:
@@ -63,10 +58,20 @@ def main():
     err_ax.set_yscale("log")
     err_ax.legend(fontsize=8)
     err_ax.set_title("error")
-    fig.suptitle(args.title)
+    fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(args.out)
-    print(args.out)
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--run", action="append", required=True, help="LABEL=TICKS.csv")
+    p.add_argument("--out", required=True)
+    p.add_argument("--title", default="Tracking")
+    args = p.parse_args()
+    print(draw([run.partition("=")[::2] for run in args.run], args.out, args.title))
 
 
 if __name__ == "__main__":

@@ -56,6 +56,14 @@ TEST(ArmTracking, AStudyTunesTheGainsByIsteBelowThePapers) {
   const double papers = Field(Track("--feedforward model"), "iste");
   EXPECT_GT(best_iste, 0);
   EXPECT_LT(best_iste, 0.5 * papers) << "the study's best ISTE against the paper's gains'";
+  // The report: the path tracked with the descriptor's gains and the best, and its figure.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(run.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) << run.out;
+  const std::string plots = dir.File("runs/plots/" + std::string(m[1]));
+  EXPECT_NE(ReadFile(plots + "-tracking-0.svg").find("<svg"), std::string::npos);
+  const std::string report = ReadFile(plots + "-tracking.json");
+  EXPECT_THAT(report, HasSubstr("\"best\": \"tracking.kp="));
+  EXPECT_NEAR(Field(report.substr(report.find("\"descriptor\"")), "iste"), papers, 1e-9);
 }
 
 TEST(ArmTracking, APathWithoutTheTrackedMarkerIsRefused) {
