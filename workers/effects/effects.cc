@@ -184,15 +184,14 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "spring_links"},
       {"model.resolution",
        "Model resolution (deformable lumps)",
-       "Six rigid lumps stand for a continuum body (paper 000's second suspect: the \"highly "
-       "approximate\" six-component model); a finer build of the same robot disagreed with "
-       "the six-lump one by up to 1.2 cm per cycle, sometimes in sign "
-       "(../shared/robots/caterpillar.md). The next finer model: each lump two half-lumps "
-       "joined at its centre by the silicone block between them (axial E A / l, bending "
-       "E I / l, damped like the links), twelve bodies in all; the parameter is the blocks' "
-       "compliance 1/E. 0 is the rigid six-lump model; the paper's silicone (435 kPa) is "
-       "2.3 /MPa. Blocks stiffer than the timestep resolves stay rigid (at 1 ms: below about "
-       "1.4 /MPa), so the range is not continuous there.",
+       "Rigid lumps stand for a continuum body (paper 000's second suspect: its \"highly "
+       "approximate\" lumped model); a finer build of the same robot can disagree with the "
+       "lumped one by centimetres per cycle, sometimes in sign. The next finer model: each "
+       "lump a body its spring links join, split into two half-lumps joined at its centre by "
+       "the material block between them (axial E A / l, bending E I / l, damped like the "
+       "links); the parameter is the blocks' compliance 1/E. 0 is the rigid lumped model; a "
+       "silicone of 435 kPa is 2.3 /MPa. Blocks stiffer than the timestep resolves stay rigid "
+       "(at 1 ms: below about 1.4 /MPa), so the range is not continuous there.",
        {{"effect.lump_compliance_per_mpa", 0, 25, 0, "1/MPa"}},
        "Residuals that differ in sign between gaits and that no external force explains: "
        "strokes that move the lump centres less than simulated, lower hops, the shape of the "
