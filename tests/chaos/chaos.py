@@ -110,10 +110,12 @@ class Nemesis:
         cands = [w for w in self.c.workers if alive(w[1]) and not (healthy_only and w[0] in iso)]
         return self.rng.choice(cands) if cands else None
 
-    def wait_mid_generation(self, timeout=3.0):
-        """Waits (bounded) until the generation in flight has some but not all of its results."""
+    def wait_mid_generation(self):
+        """Waits (bounded) until the generation in flight has some but not all of its results.
+        The bound covers a generation held up by a worker cut off past its lease (on a loaded
+        2-core machine a 3 s bound missed the window now and then)."""
         P, elite = self.c.spec["population"], self.c.spec["ga"]["elite"]
-        end = time.monotonic() + timeout
+        end = time.monotonic() + max(3.0, 3.0 * self.lease_ms / 1000.0)
         st = None
         while time.monotonic() < end:
             st = self.c.status()
