@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "robots/count_override.h"
 #include "robots/descriptor_parser.h"
 #include "robots/registry.h"
 #include "workers/models/generic/generic_playback.h"
@@ -37,10 +38,11 @@ double CpuSeconds() {
 }
 
 gaitforge::robots::RobotDescriptor Arm(int lumps) {
-  std::string text(gaitforge::robots::BuiltinText("continuum_arm"));
-  const std::string from = "lumps: {value: 5,";
-  text.replace(text.find(from), from.size(), "lumps: {value: " + std::to_string(lumps) + ",");
-  auto d = gaitforge::robots::ParseDescriptor(text, "continuum_arm (N = " + std::to_string(lumps) + ")");
+  const std::string source = "continuum_arm (N = " + std::to_string(lumps) + ")";
+  auto text = gaitforge::robots::WithCount(gaitforge::robots::BuiltinText("continuum_arm"), "lumps",
+                                           lumps, source);
+  auto d = text.ok() ? gaitforge::robots::ParseDescriptor(*text, source)
+                     : absl::StatusOr<gaitforge::robots::RobotDescriptor>(text.status());
   if (!d.ok()) {
     std::fprintf(stderr, "%s\n", std::string(d.status().message()).c_str());
     std::exit(1);

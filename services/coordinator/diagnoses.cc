@@ -31,9 +31,11 @@ v1::DiagnosisState StateOf(const std::string& s) {
 }
 
 // The files of a finished diagnosis that are kept with it in the database.
+// robot.yaml: the descriptor the corrected model names, when the diagnosis ran on one
+// (another resolution of the robot, or a descriptor the spec carried).
 const char* const kKeptFiles[] = {"diagnosis.json",    "diagnosis.svg", "located.svg",
                                   "located.json",      "located-held.json",
-                                  "corrected-model.yaml"};
+                                  "corrected-model.yaml", "robot.yaml"};
 
 // The fits of a diagnosis, as studies of this coordinator.
 class CoordinatorStudies : public diagnosis::Studies {

@@ -56,9 +56,11 @@ absl::Status ResolveFromDiagnosis(storage::StudyStore& store, v1::StudySpec* spe
   if (rec->state != "completed")
     return absl::FailedPreconditionError(absl::StrCat(
         kField, ": diagnosis ", id, " is ", rec->state, "; a study starts from a completed one"));
-  std::string corrected;
-  for (const auto& [name, content] : rec->files)
+  std::string corrected, robot;  // robot: the descriptor the corrected model names, if any
+  for (const auto& [name, content] : rec->files) {
     if (name == "corrected-model.yaml") corrected = content;
+    if (name == "robot.yaml") robot = content;
+  }
   if (corrected.empty())
     return absl::FailedPreconditionError(absl::StrCat(
         kField, ": diagnosis ", id, " named no explanation (verdict '", rec->verdict,
@@ -73,7 +75,7 @@ absl::Status ResolveFromDiagnosis(storage::StudyStore& store, v1::StudySpec* spe
   d.ParseFromString(rec->spec);
   if (o->robot().empty() && o->robot_descriptor().empty() && name == "robot.distance") {
     o->set_robot(d.robot());
-    o->set_robot_descriptor(d.robot_descriptor());
+    o->set_robot_descriptor(robot.empty() ? d.robot_descriptor() : robot);
   }
   const std::string set = model["options"]["set"].as<std::string>("");
   std::string& own = (*o->mutable_options())["set"];

@@ -164,7 +164,7 @@ v1::StudySpec StudyFor(const v1::DiagnosisSpec& d, const Candidate& c, int evalu
   for (const auto& b : c.genes) *s.add_bounds() = b;
   auto* cm = s.mutable_cmaes();
   for (double m : c.mean0) cm->add_mean0(m);
-  cm->set_sigma0(0.25);
+  cm->set_sigma0(c.sigma0);
   cm->set_restarts("none");
   cm->set_max_evaluations(evaluations);
   return s;

@@ -22,6 +22,7 @@ struct Candidate : FitScore {
   std::string label;                  // effect id(s), "baseline" for none
   std::vector<v1::GeneBound> genes;   // what the study fits
   std::vector<double> mean0;          // where the fit starts: an effect's nominal value
+  double sigma0 = 0.25;               // its first step, a share of each gene's range
   std::vector<std::string> gene_effect;  // per gene, the effect id it belongs to ("": none)
   std::string study_id;
   std::string reason;

@@ -13,6 +13,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "robots/controllers.h"
+#include "robots/count_override.h"
 #include "robots/registry.h"
 #include "services/diagnosis/locate.h"
 #include "services/diagnosis/run_state.h"
@@ -100,6 +101,47 @@ absl::Status Numerics(RunState& s) {
   return absl::OkStatus();
 }
 
+// 0b. Resolution (structure: first; robots with counts, such as the arm's lumps): while
+// twice a count, within its range, brings the uncalibrated model closer to the training
+// recordings by more than a fifth (the rule of numerics first), the diagnosis moves to that
+// model: a lumped model coarser than the robot must not pass its own discretisation error
+// off as an effect (docs/diagnosis.md, "Structure first").
+absl::Status Resolution(RunState& s) {
+  if (s.d.structure() != "first" || s.d.weighting() != "floor" || s.variant_train.empty())
+    return absl::OkStatus();
+  auto robot = RobotOf(s.d);
+  if (!robot.ok()) return absl::OkStatus();
+  for (const auto& count : (*robot)->counts) {
+    for (int at = count.value; 2 * at <= count.hi; at *= 2) {
+      const std::string text = s.d.robot_descriptor().empty()
+                                   ? std::string(robots::BuiltinText(s.d.robot()))
+                                   : s.d.robot_descriptor();
+      auto finer = robots::WithCount(text, count.name, 2 * at,
+                                     absl::StrCat(s.d.robot(), " (", count.name, " = ", 2 * at, ")"));
+      if (!finer.ok()) break;
+      const v1::DiagnosisSpec d = s.d;
+      const StudyInputs inputs = s.fit_inputs;
+      const auto weights = s.weights, floors = s.train_floors, variants = s.variant_train;
+      s.d.set_robot_descriptor(*finer);
+      if (!Weigh(s).ok() || !(s.variant_train[0] < kUnconvergedShare * variants[0])) {
+        s.d = d;
+        s.fit_inputs = inputs;
+        s.weights = weights;
+        s.train_floors = floors;
+        s.variant_train = variants;
+        break;
+      }
+      s.resolution.push_back({count.name, at, 2 * at, variants[0], s.variant_train[0]});
+      s.r.note(absl::StrFormat("resolution: with %s = %d the uncalibrated model misses the training "
+                               "recordings by %.3g %s, with %d by %.3g %s: diagnosing at %d",
+                               count.name, at, s.rule.error_scale * variants[0], s.rule.error_unit,
+                               2 * at, s.rule.error_scale * s.variant_train[0], s.rule.error_unit,
+                               2 * at));
+    }
+  }
+  return absl::OkStatus();
+}
+
 // The baseline's held-out errors, its noise floor and where its residuals show the
 // mismatch, on the training recordings and on the held-out ones (if not there, they
 // cannot confirm).
@@ -128,6 +170,27 @@ absl::Status Baseline(RunState& s) {
   return absl::OkStatus();
 }
 
+// With structure first, every fit after the baseline starts from a fit already made: the
+// baseline's (its effects at their nominal values: the baseline model itself), or for a
+// full fit of one effect, that effect's screening fit; with a shorter first step. Effects
+// are sought on top of the fitted model. A screening fit (`hold`) keeps the base
+// parameters within 2% of the baseline's values: its short budget goes to the effect's own
+// parameters, so that screening ranks what each effect adds to the fitted model rather
+// than how far a short fit gets from the centre of every range.
+void StartFrom(const RunState& s, const Candidate& from, Candidate& c, bool hold) {
+  if (s.d.structure() != "first" || !from.ok) return;
+  for (size_t i = 0; i < c.genes.size() && i < c.mean0.size(); ++i)
+    for (size_t j = 0; j < from.genes.size() && j < from.values.size(); ++j) {
+      if (from.genes[j].name() != c.genes[i].name()) continue;
+      const double v = from.values[j], half = 0.02 * std::max(std::abs(v), 1e-9);
+      c.mean0[i] = std::clamp(v, c.genes[i].lo(), c.genes[i].hi());
+      if (!hold) continue;
+      c.genes[i].set_lo(std::max(c.genes[i].lo(), v - half));
+      c.genes[i].set_hi(std::min(c.genes[i].hi(), v + half));
+    }
+  c.sigma0 = hold ? 0.1 : 0.05;
+}
+
 // 2b. Structure first (structure: first): the candidates that say what the model gets
 // wrong everywhere (effects::IsStructural) are screened, the best refitted fully, and if
 // it beats the baseline as a discovery must (decision.h) it becomes the baseline: its
@@ -139,7 +202,10 @@ absl::Status Structure(RunState& s) {
   for (const auto& id : s.d.candidates())
     if (effects::IsStructural(id)) tried.push_back(Make(s.d, {id}));
   std::vector<Candidate*> ptrs;
-  for (auto& c : tried) ptrs.push_back(&c);
+  for (auto& c : tried) {
+    StartFrom(s, s.base, c, true);
+    ptrs.push_back(&c);
+  }
   if (ptrs.empty()) return absl::OkStatus();
   if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
                         "structure", &s.reused);
@@ -150,6 +216,7 @@ absl::Status Structure(RunState& s) {
     if (c.ok && (!lead || c.train < lead->train)) lead = &c;
   if (!lead) return absl::OkStatus();
   Candidate best = Make(s.d, lead->effects);
+  StartFrom(s, s.base, best, false);
   std::vector<Candidate*> one = {&best};
   if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
                         "structure", &s.reused);
@@ -179,7 +246,10 @@ absl::Status Structure(RunState& s) {
 absl::Status Screen(RunState& s) {
   for (const auto& id : s.d.candidates()) s.screened.push_back(Make(s.d, {id}));
   std::vector<Candidate*> ptrs;
-  for (auto& c : s.screened) ptrs.push_back(&c);
+  for (auto& c : s.screened) {
+    StartFrom(s, s.base, c, true);
+    ptrs.push_back(&c);
+  }
   if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
                         "screening", &s.reused);
       !st.ok())
@@ -205,7 +275,10 @@ absl::Status Refit(RunState& s) {
       for (size_t j = i + 1; j < s.singles && j < 3; ++j)
         s.full.push_back(Make(s.d, {s.full[i].effects[0], s.full[j].effects[0]}));
   std::vector<Candidate*> ptrs;
-  for (auto& c : s.full) ptrs.push_back(&c);
+  for (size_t i = 0; i < s.full.size(); ++i) {
+    StartFrom(s, i < s.singles ? s.screened[i] : s.base, s.full[i], false);
+    ptrs.push_back(&s.full[i]);
+  }
   if (auto st = RunFits(s.studies, s.d, ptrs, s.d.full_evaluations(), s.fit_inputs, s.r,
                         "refitting", &s.reused);
       !st.ok())
@@ -302,7 +375,7 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
   std::filesystem::create_directories(in.dir, ec);
   RunState s(d, in, studies, r);
   s.rule.SetUnitFor(d.error());
-  for (auto stage : {CountSamples, Weigh, Numerics, Baseline, Structure, Screen, Refit})
+  for (auto stage : {CountSamples, Weigh, Numerics, Resolution, Baseline, Structure, Screen, Refit})
     if (auto st = stage(s); !st.ok()) return st;
   DecideStage(s);
   WriteCorrected(s);

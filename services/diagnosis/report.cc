@@ -136,6 +136,18 @@ std::string Numerics(const RunState& s) {
                       Num(s.variant_train.empty() ? NAN : s.variant_train[0]), "}");
 }
 
+// The counts the diagnosis moved to (structure: first), or null when none moved.
+std::string Resolution(const RunState& s) {
+  if (s.resolution.empty()) return "null";
+  std::vector<std::string> moves;
+  for (const auto& m : s.resolution)
+    moves.push_back(absl::StrCat("{\"count\": ", JsonQuote(m.count), ", \"from\": ", m.from,
+                                 ", \"at\": ", m.at, ", \"from_training_error\": ",
+                                 Num(m.from_error), ", \"at_training_error\": ", Num(m.at_error),
+                                 "}"));
+  return "[" + absl::StrJoin(moves, ", ") + "]";
+}
+
 std::string Errors(const RunState& s) {
   std::string j = absl::StrCat(
       "{\"baseline_train\": ", Num(s.base.train), ", \"baseline_held_out\": ", Num(s.base.held),
@@ -204,7 +216,7 @@ std::string WriteReport(RunState& s) {
       "], \"top\": ", s.d.top(), ", \"screening_tie\": ", Num(s.d.screening_tie()),
       ", \"refitted_singles\": ", s.singles, ", \"reused_fits\": ", s.reused,
       ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"structure\": ", Structure(s),
-      ", \"numerics\": ", Numerics(s));
+      ", \"numerics\": ", Numerics(s), ", \"resolution\": ", Resolution(s));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",
                   JsonQuote(NumericsNote(NumericVariants(s.d), s.variant_train, s.rule)),

@@ -32,6 +32,14 @@ struct RunState {
   // Numerics first: the step the diagnosis started from (ms) and the uncalibrated model's
   // mean training error there (NAN: the stage did not run).
   double numerics_from_ms = NAN, numerics_from_error = NAN;
+  // Resolution (structure: first): each count the diagnosis moved, from and to, with the
+  // uncalibrated model's mean training error at both; empty: none moved.
+  struct Refinement {
+    std::string count;
+    int from = 0, at = 0;
+    double from_error = NAN, at_error = NAN;
+  };
+  std::vector<Refinement> resolution;
   int reused = 0;  // fits found in the database with the same spec, not run again
 
   Candidate base;

@@ -115,6 +115,17 @@ std::string Verdict(const Struct& r) {
                               N(nu, "at_ms"), u.scale * N(nu, "at_training_error"), u.label,
                               N(nu, "at_ms")));
   }
+  if (Field(r, "resolution").kind_case() == Value::kListValue)
+    for (const Value& v : Field(r, "resolution").list_value().values()) {
+      const Struct& m = v.struct_value();
+      absl::StrAppend(&out, absl::StrFormat(
+                                "the model's resolution: with %s = %.0f it missed the training "
+                                "recordings by %.3g %s, with %.0f by %.3g %s, so the diagnosis "
+                                "ran at %s = %.0f\n",
+                                S(m, "count"), N(m, "from"), u.scale * N(m, "from_training_error"),
+                                u.label, N(m, "at"), u.scale * N(m, "at_training_error"), u.label,
+                                S(m, "count"), N(m, "at")));
+    }
   if (Field(r, "structure").kind_case() == Value::kStructValue) {
     const Struct& st = O(r, "structure");
     absl::StrAppend(&out, absl::StrFormat("the model's structure: %s, fitted into the baseline "

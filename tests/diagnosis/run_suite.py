@@ -35,13 +35,20 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def spec_text(case_dir, c, screening, full, base="", weighting=""):
+def spec_text(case_dir, c, screening, full, base="", weighting="", extra=""):
     """The diagnosis spec of a case (its case.json as `c`). It names the files by absolute
-    path; the case name stays out of it."""
+    path; the case name stays out of it. A case's own `spec` fields (the arm's error and
+    channels) come in unless the command line sets them (`extra`, `base`, `weighting`)."""
     lines = ["name: case", "seed: 1", f"robot: {c.get('robot', 'caterpillar')}",
              "training: [" + ", ".join(os.path.join(case_dir, p) for p in c["train"]) + "]",
              "held_out: [" + ", ".join(os.path.join(case_dir, p) for p in c["held_out"]) + "]",
              f"screening_evaluations: {screening}", f"full_evaluations: {full}"]
+    given = {line.split(":")[0] for line in extra.splitlines()}
+    given |= {"base_parameters"} if base else set()
+    given |= {"weighting"} if weighting else set()
+    for key, value in c.get("spec", {}).items():
+        if key not in given:
+            lines.append(f"{key}: {json.dumps(value)}")  # JSON is YAML
     if weighting:
         lines.append(f"weighting: {weighting}")
     if base:  # NAME:LO:HI,... -> base_parameters, fitted in every study
@@ -60,7 +67,7 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
     with tempfile.TemporaryDirectory(prefix=f"gf-diag-{case}-") as d:
         spec = os.path.join(d, "diagnosis.yaml")
         with open(spec, "w") as f:
-            f.write(spec_text(case_dir, c, screening, full, base, weighting) + extra)
+            f.write(spec_text(case_dir, c, screening, full, base, weighting, extra) + extra)
         t0 = time.monotonic()
         r = subprocess.run([os.path.join(bin_dir, "gaitforge"), "diagnose", spec, "--json",
                             "--workers", str(workers)], cwd=d, capture_output=True, text=True)

@@ -12,7 +12,10 @@
 #include <sstream>
 #include <thread>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "robots/count_override.h"
 #include "robots/registry.h"
 
 #include "services/core/flags.h"
@@ -43,6 +46,7 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
 struct Args {
   std::string cmd, robot, genes, out, set, recordings, options, params, out_dir, engine, inputs;
   std::string scales, periods, learned;
+  std::vector<std::pair<std::string, int>> counts;  // --count: another resolution of the robot
   simtool::TrackArgs track;
   simtool::LearnArgs learn;
   bool open_loop = false;
@@ -84,6 +88,12 @@ int RunSweep(const Args& a, const simtool::GenericRun& run) {
 int Run(const Args& a) {
   auto text = RobotText(a.robot);
   if (!text.ok()) return Fail(text.status(), 2);
+  for (const auto& [name, value] : a.counts) {  // another resolution of the same robot
+    auto finer = robots::WithCount(text->second, name, value, a.robot);
+    if (!finer.ok()) return Fail(absl::InvalidArgumentError(absl::StrCat("--count ", finer.status().message())), 2);
+    text->second = *finer;
+    text->first = absl::StrCat(text->first.empty() ? a.robot : text->first, " (", name, " = ", value, ")");
+  }
   auto robot = robots::ResolveRobot("", text->second);
   if (!robot.ok()) return Fail(robot.status(), 2);
   if ((*robot)->model != "generic")
@@ -189,6 +199,10 @@ int main(int argc, char** argv) {
   flags.Add("robot", &a.robot,
             "the robot: a built-in's name or a descriptor file (docs/robots.md); default "
             "caterpillar");
+  std::string count_text;
+  flags.Add("count", &count_text,
+            "another resolution of the robot: its counts NAME=N,... (docs/robots.md, \"Counts and "
+            "repeats\"; the arm: lumps=12)");
   flags.Add("params", &params_path, "a descriptor file, as --robot (kept for old scripts)");
   flags.Add("engine", &a.engine,
             "trajectory: ode (the studies' build) or mujoco (an independent build of the same "
@@ -251,6 +265,14 @@ int main(int argc, char** argv) {
                                            "[1, 10000], --threads in [1, 256]"),
                 2);
   if (a.robot.empty()) a.robot = params_path.empty() ? "caterpillar" : params_path;
+  for (const std::string& item :
+       std::vector<std::string>(absl::StrSplit(count_text, ',', absl::SkipEmpty()))) {
+    const std::vector<std::string> kv = absl::StrSplit(item, '=');
+    int n = 0;
+    if (kv.size() != 2 || !absl::SimpleAtoi(kv[1], &n))
+      return Fail(absl::InvalidArgumentError("--count: expected NAME=N,... (a whole N), got '" + item + "'"), 2);
+    a.counts.emplace_back(kv[0], n);
+  }
   // The named flags win over the same names in --options and --objective-params.
   if (!error_kind.empty()) a.options += ";error=" + error_kind;
   if (!metric.empty()) a.options += ";metric=" + metric;

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 #include "absl/strings/str_join.h"
+#include "robots/count_override.h"
 #include "robots/registry.h"
 
 #include "services/diagnosis/fits.h"
@@ -289,6 +290,41 @@ TEST(DiagnosisSpec, ARobotsSuspectsAreCandidatesStartingAtTheModel) {
   EXPECT_EQ(c.gene_effect[0], "knee.hind_stiffness");
   d.add_candidates("knee.front_stiffness");
   EXPECT_NE(Validate(d).message().find("or a suspect of tigrillo"), std::string::npos) << Validate(d);
+}
+
+}  // namespace
+}  // namespace gaitforge::diagnosis
+
+namespace gaitforge::diagnosis {
+namespace {
+
+// Resolution (structure first): a diagnosis moved to another resolution carries the finer
+// descriptor into every fit's study, and a fit started from the baseline carries its start
+// and its shorter step.
+TEST(Resolution, AFitStudyCarriesTheFinerDescriptorAndTheCandidatesStart) {
+  v1::DiagnosisSpec d;
+  d.set_name("arm");
+  d.set_robot("continuum_arm");
+  d.add_training("a");
+  d.add_held_out("c");
+  d.set_error("acceleration");
+  Defaults(&d);
+  auto ten = robots::WithCount(robots::BuiltinText("continuum_arm"), "lumps", 10, "arm");
+  ASSERT_TRUE(ten.ok()) << ten.status();
+  d.set_robot_descriptor(*ten);
+  ASSERT_EQ((*RobotOf(d))->bodies.size(), 10u);
+  Candidate c = Make(d, {"joint.softening"});
+  c.mean0[0] = 0.5;
+  c.sigma0 = 0.1;
+  MemoryStudies studies;
+  int reused = 0;
+  ASSERT_TRUE(RunFits(studies, d, {&c}, 24, {{"a"}, {"c"}, ""}, Reporter(), "s", &reused).ok());
+  const auto& spec = studies.studies.at(c.study_id).spec();
+  EXPECT_EQ(spec.objective().name(), "robot.calibration");
+  EXPECT_EQ(spec.objective().robot_descriptor(), *ten);
+  EXPECT_DOUBLE_EQ(spec.cmaes().sigma0(), 0.1);
+  ASSERT_GE(spec.cmaes().mean0_size(), 1);
+  EXPECT_DOUBLE_EQ(spec.cmaes().mean0(0), 0.5);
 }
 
 }  // namespace
