@@ -6,7 +6,8 @@
 // diagnosis moves the 5-lump model to 10 lumps (resolution), then names joint.softening
 // with P where the descriptor has it and the held-out error cut. The suite's other cases
 // (the other effects, a mis-set stiffness, nulls) are the benchmark
-// (tests/diagnosis/robots/README.md).
+// (tests/diagnosis/robots/README.md). Budgets here (screening 96, one full fit of 384) are the
+// smallest that still halve the held-out error (64/256 did not: 5.8 -> 4.0 mm).
 #include <cmath>
 #include <regex>
 #include <string>
@@ -35,7 +36,7 @@ TEST(ArmDiagnosis, MovesToAFinerResolutionAndNamesSofteningJoints) {
             "time_offset_range_s: 0\nerror: pointwise\nchannels: \"tip.x,tip.y,tip.z\"\n"
             "params: {max_shift_samples: 0}\nstructure: first\n"
             "candidates: [joint.softening, joint.damping_growth, joint.stiffening, tether.constant]\n"
-            "screening_evaluations: 96\nfull_evaluations: 480\ntop: 2\ntry_pairs: false\n");
+            "screening_evaluations: 96\nfull_evaluations: 384\ntop: 1\ntry_pairs: false\n");
   auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
                       " --db d.db --out out diagnose d.yaml --workers 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
