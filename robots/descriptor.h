@@ -124,8 +124,8 @@ struct Sensor {
 
 struct Body {
   std::string name;
-  std::string shape;  // "box"
-  Vec3Expr size;      // m, full lengths along the body's x, y, z
+  std::string shape;  // "box" or "sphere"
+  Vec3Expr size;      // m, full lengths along the body's x, y, z (a sphere: 2r each)
   Expr mass;          // kg, uniform density
   Vec3Expr position;  // m, world frame, at the start
   std::optional<Expr> pitch;  // rad about +y at the start (+: the body's +x tips down)

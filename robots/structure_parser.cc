@@ -62,10 +62,29 @@ Status CheckNewName(const YamlFields& f, const YAML::Node& node, const std::stri
   return absl::OkStatus();
 }
 
+// A box's `size: [x, y, z]`, or a sphere's `radius` (its size then 2r along each axis).
+Status ReadSize(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                const RobotDescriptor& d, Body& b) {
+  const bool sphere = b.shape == "sphere";
+  const char* wrong = sphere ? "size" : "radius";
+  if (n[wrong])
+    return f.Error(n[wrong], JoinPath(path, wrong),
+                   sphere ? "a sphere takes radius, not size" : "a box takes size, not radius");
+  if (!sphere) return ReadVec(f, n["size"], path + ".size", d, b.size);
+  if (d.plane == "xz")
+    return f.Error(n["shape"], path + ".shape", "a planar robot (plane: xz) is built of boxes");
+  Expr r;
+  if (Status s = ReadExpr(f, n["radius"], path + ".radius", d, r); !s.ok()) return s;
+  r.constant *= 2;  // the expressions are linear: the diameter is 2 r
+  for (auto& t : r.terms) t.coef *= 2;
+  b.size = {r, r, r};
+  return absl::OkStatus();
+}
+
 Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& path,
                  RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "mass", "position", "pitch",
-                                      "friction", "contact_depth"});
+  if (Status s = f.CheckMap(n, path, {"name", "shape", "size", "radius", "mass", "position",
+                                      "pitch", "friction", "contact_depth"});
       !s.ok())
     return s;
   Body b;
@@ -80,9 +99,10 @@ Status ParseBody(const YamlFields& f, const YAML::Node& n, const std::string& pa
                    absl::StrCat("'", kWorldBody, "' names the fixed world frame in joints, not a body"));
   auto shape = f.String(n["shape"], path + ".shape");
   if (!shape.ok()) return shape.status();
-  if (*shape != "box") return f.Error(n["shape"], path + ".shape", "must be box");
+  if (*shape != "box" && *shape != "sphere")
+    return f.Error(n["shape"], path + ".shape", "must be box or sphere");
   b.shape = *shape;
-  if (Status s = ReadVec(f, n["size"], path + ".size", d, b.size); !s.ok()) return s;
+  if (Status s = ReadSize(f, n, path, d, b); !s.ok()) return s;
   if (Status s = ReadExpr(f, n["mass"], path + ".mass", d, b.mass); !s.ok()) return s;
   if (Status s = ReadVec(f, n["position"], path + ".position", d, b.position); !s.ok()) return s;
   for (auto [key, out] : {std::pair{"pitch", &b.pitch}, std::pair{"friction", &b.friction},

@@ -9,6 +9,7 @@
 #include "gtest/gtest.h"
 #include "robots/descriptor_parser.h"
 #include "robots/registry.h"
+#include "tests/support/fixture_robot.h"
 #include "tests/support/robot_text.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/models/mujoco/mjcf.h"
@@ -42,6 +43,22 @@ TEST(MujocoWorld, BodiesAndAnchorsStartWhereTheDescriptorPutsThem) {
         EXPECT_NEAR(a[k], Eval(d.joints[j].anchor[k], v), 1e-9) << name << " " << d.joints[j].name;
     }
   }
+}
+
+// Spheres (tests/fixtures/robots/balls): on a slope the ball with friction rolls (5/7 g sin s)
+// and the frictionless one slides (g sin s), as on the ODE build (sphere_test.cc).
+TEST(MujocoWorld, SpheresRollAndSlideAsOnTheOdeBuild) {
+  const robots::RobotDescriptor& d = testing::FixtureRobot("balls");
+  generic::ParamValues v(d);
+  const double s = 0.1, t = 0.5;
+  ASSERT_TRUE(v.Set("effect.slope_rad", s).ok());
+  auto w = MujocoWorld::Build(d, v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  const int steps = static_cast<int>(std::lround(t / (*w)->timestep()));
+  for (int i = 0; i < steps; ++i) ASSERT_TRUE((*w)->Step({}).ok);
+  const double slide = 0.5 * v("simulation.gravity_m_per_s2") * std::sin(s) * t * t;
+  EXPECT_NEAR(-*(*w)->Channel("sliding_c.x"), slide, 0.02 * slide);
+  EXPECT_NEAR(-*(*w)->Channel("rolling_c.x"), 5.0 / 7.0 * slide, 0.02 * slide);
 }
 
 // An arm on a sprung hinge out from a heavy base, and a servo-driven second arm.

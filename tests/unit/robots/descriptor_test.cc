@@ -280,6 +280,23 @@ TEST(Structure, ExpressionsAndAxesAreChecked) {
               HasSubstr("actuators[0].joint: unknown field"));
 }
 
+// Spheres (tests/fixtures/robots/balls/robot.yaml): a radius, its size 2r on each axis.
+TEST(Structure, SpheresTakeARadius) {
+  auto d = ParseDescriptor(Fixture("balls"), "balls.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  EXPECT_EQ(d->bodies[0].shape, "sphere");
+  const auto value = [&](const std::string& n) { return d->Value(n); };
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(d->bodies[0].size[k].Eval(value), 0.05);
+  EXPECT_THAT(FixtureError("radius: ball.radius_m,", "size: [0.1, 0.1, 0.1],", "balls"),
+              HasSubstr("bodies[0].size: a sphere takes radius, not size"));
+  EXPECT_THAT(FixtureError("shape: sphere,", "shape: cylinder,", "balls"),
+              HasSubstr("bodies[0].shape: must be box or sphere"));
+  EXPECT_THAT(FixtureError("radius: ball.radius_m,", "radius: ball.radius,", "balls"),
+              HasSubstr("'ball.radius' is not a parameter"));
+  EXPECT_THAT(FixtureError("shape: box,", "shape: box, radius: 0.1,"),
+              HasSubstr("a box takes size, not radius"));
+}
+
 // Universal joints and the world frame (tests/fixtures/robots/cantilever/robot.yaml).
 std::string CantileverError(const std::string& from, const std::string& to) {
   return FixtureError(from, to, "cantilever");

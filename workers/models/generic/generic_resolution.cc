@@ -64,7 +64,10 @@ absl::Status GenericWorld::BuildBody(int index, const ParamValues& v) {
   built.first = static_cast<int>(bodies_.size());
   built.centre = pos;
   dMass whole;
-  dMassSetBoxTotal(&whole, m, size[0], size[1], size[2]);
+  if (b.shape == "sphere")
+    dMassSetSphereTotal(&whole, m, size[0] / 2);
+  else
+    dMassSetBoxTotal(&whole, m, size[0], size[1], size[2]);
   built.mass = m;
   built.inertia_y = whole.I[1 * 4 + 1];
   if (b.pitch) {
@@ -75,7 +78,7 @@ absl::Status GenericWorld::BuildBody(int index, const ParamValues& v) {
   const Split split = SplitOf(index, size, m, v);
   splits_.push_back(split);
   if (!split.on) {
-    CreateBody(b.name, size, m, pos, b.pitch ? rot : nullptr);
+    CreateBody(b.name, size, m, pos, b.pitch ? rot : nullptr, b.shape == "sphere");
     built_.push_back(built);
     return absl::OkStatus();
   }

@@ -113,10 +113,23 @@ void GenericWorld::AddGroundContacts() {
     const dReal* p = dBodyGetPosition(bodies_[i]);
     const dReal* r = dBodyGetRotation(bodies_[i]);
     dVector3 len;
-    dGeomBoxGetLengths(geoms_[i], len);
     dContactGeom hits[kMax];
     int n = 0;
-    for (int corner = 0; corner < 8 && n < kMax; ++corner) {
+    if (radius_[i] > 0) {  // a sphere touches at its lowest point
+      const double z = p[2] - radius_[i];
+      if (z <= -contact_depth_[i]) {
+        dContactGeom& g = hits[n++];
+        g.pos[0] = p[0];
+        g.pos[1] = p[1];
+        g.pos[2] = z;
+        g.normal[0] = g.normal[1] = 0;
+        g.normal[2] = 1;
+        g.depth = -z - contact_depth_[i];
+      }
+    } else {
+      dGeomBoxGetLengths(geoms_[i], len);
+    }
+    for (int corner = 0; corner < 8 && n < kMax && radius_[i] == 0; ++corner) {
       const double lx = (corner & 1 ? 0.5 : -0.5) * len[0];
       const double ly = (corner & 2 ? 0.5 : -0.5) * len[1];
       const double lz = (corner & 4 ? 0.5 : -0.5) * len[2];

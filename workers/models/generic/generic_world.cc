@@ -176,15 +176,20 @@ absl::Status GenericWorld::BuildBodies(const ParamValues& v) {
 
 void GenericWorld::CreateBody(const std::string& name, const std::array<double, 3>& size,
                               double mass, const std::array<double, 3>& pos,
-                              const dReal* rotation) {
+                              const dReal* rotation, bool sphere) {
   dBodyID body = dBodyCreate(world_.world());
   dMass m;
-  dMassSetBoxTotal(&m, mass, size[0], size[1], size[2]);
+  if (sphere)
+    dMassSetSphereTotal(&m, mass, size[0] / 2);
+  else
+    dMassSetBoxTotal(&m, mass, size[0], size[1], size[2]);
   dBodySetMass(body, &m);
   dBodySetPosition(body, pos[0], pos[1], pos[2]);
   if (rotation) dBodySetRotation(body, rotation);
-  dGeomID geom = dCreateBox(world_.space(), size[0], size[1], size[2]);
+  dGeomID geom = sphere ? dCreateSphere(world_.space(), size[0] / 2)
+                        : dCreateBox(world_.space(), size[0], size[1], size[2]);
   dGeomSetBody(geom, body);
+  radius_.push_back(sphere ? size[0] / 2 : 0.0);
   bodies_.push_back(body);
   geoms_.push_back(geom);
   masses_.push_back(mass);

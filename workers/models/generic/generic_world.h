@@ -163,8 +163,9 @@ class GenericWorld : public RobotWorld {
   };
   Split SplitOf(int body, const std::array<double, 3>& size, double mass,
                 const ParamValues& v) const;
+  // A box of the given lengths, or with `sphere` a sphere of diameter size[0].
   void CreateBody(const std::string& name, const std::array<double, 3>& size, double mass,
-                  const std::array<double, 3>& pos, const dReal* rotation);
+                  const std::array<double, 3>& pos, const dReal* rotation, bool sphere = false);
   absl::Status BuildBody(int index, const ParamValues& v);
   // The built body of descriptor body `body` nearest a world point (its half, if split),
   // and a point of its frame in the frame of the half that holds it (x <= 0: the rear).
@@ -270,7 +271,8 @@ class GenericWorld : public RobotWorld {
   std::vector<dBodyID> bodies_;           // ODE bodies, rear half first where split
   std::vector<dGeomID> geoms_;
   std::vector<double> masses_;
-  std::vector<std::array<double, 3>> sizes_;  // box lengths, body frame (m)
+  std::vector<std::array<double, 3>> sizes_;  // box lengths, body frame (m; a sphere: 2r)
+  std::vector<double> radius_;                 // a sphere's radius (m); 0 for a box
   // Per body: its ground friction coefficient (the ground's unless it gives its own) and
   // the overlap it may keep (m).
   std::vector<double> body_friction_, contact_depth_;

@@ -152,14 +152,21 @@ absl::Status Writer::Body(int i, int depth) {
     return absl::InvalidArgumentError(
         absl::StrCat(b.mark.ToString(), ": body ", b.name, " needs a positive size and mass"));
   const double xx = size[0] * size[0], yy = size[1] * size[1], zz = size[2] * size[2];
+  const bool sphere = b.shape == "sphere";  // size: its diameter on each axis
+  const double i_sphere = m * xx / 10;       // 2/5 m r^2
   out << in << "<inertial pos=\"0 0 0\" mass=\"" << Num(m) << "\" diaginertia=\""
-      << Num(m * (yy + zz) / 12) << " " << Num(m * (xx + zz) / 12) << " " << Num(m * (xx + yy) / 12)
-      << "\"/>\n";
+      << Num(sphere ? i_sphere : m * (yy + zz) / 12) << " "
+      << Num(sphere ? i_sphere : m * (xx + zz) / 12) << " "
+      << Num(sphere ? i_sphere : m * (xx + yy) / 12) << "\"/>\n";
   const double mu = b.friction ? Eval(*b.friction, v) : Eval(d.ground->friction, v);
-  const double depth_m = std::min(b.contact_depth ? Eval(*b.contact_depth, v) : 0.0, 0.9 * size[2]);
-  out << in << "<geom type=\"box\" size=\"" << Num(size[0] / 2) << " " << Num(size[1] / 2) << " "
-      << Num((size[2] - depth_m) / 2) << "\" pos=\"0 0 " << Num(depth_m / 2) << "\" friction=\""
-      << Num(std::isinf(mu) ? 1e3 : mu) << " 0.005 0.0001\" contype=\"1\" conaffinity=\"0\" "
+  const double depth_m = std::min(b.contact_depth ? Eval(*b.contact_depth, v) : 0.0,
+                                  0.9 * (sphere ? size[0] / 2 : size[2]));
+  if (sphere)  // the contact depth shrinks it about its centre (a box shrinks from below)
+    out << in << "<geom type=\"sphere\" size=\"" << Num(size[0] / 2 - depth_m) << "\" friction=\"";
+  else
+    out << in << "<geom type=\"box\" size=\"" << Num(size[0] / 2) << " " << Num(size[1] / 2) << " "
+        << Num((size[2] - depth_m) / 2) << "\" pos=\"0 0 " << Num(depth_m / 2) << "\" friction=\"";
+  out << Num(std::isinf(mu) ? 1e3 : mu) << " 0.005 0.0001\" contype=\"1\" conaffinity=\"0\" "
       << "solref=\"0.005 1\" mass=\"0\"/>\n";
   for (auto [it, end] = t.children.equal_range(i); it != end; ++it)
     if (absl::Status s = Body(it->second, depth + 1); !s.ok()) return s;
