@@ -174,6 +174,9 @@ struct Actuator {
   // servo: speed command gain (1/s) on the angle error, speed limit (rad/s), torque limit
   // (N m) and first-order lag of the commanded angle (s, 0 = none).
   Expr gain, max_speed, max_torque, lag_s;
+  // servo, PD instead of a speed command: the torque kp (command - angle) - kd rate (N m/rad,
+  // N m s/rad), at most max_torque either way (a torque-controlled joint, paper 002's Go2).
+  std::optional<Expr> kp, kd;
   // piston: between body1's point attach1 and body2's point attach2 (body frames, m); the
   // command (0..1) times `force` (N) pushes them apart; the return spring (N/m) pulls with
   // zero force at min_length; stops hold the length in [min_length, max_length] (m) with

@@ -308,6 +308,27 @@ Status ParseTendon(const YamlFields& f, const YAML::Node& n, const std::string& 
   return ReadExpr(f, n["max_force"], path + ".max_force", d, a.max_force);
 }
 
+// A servo's control law: a speed command (gain, max_speed) or a PD torque (kp, kd), not both.
+Status ReadServoControl(const YamlFields& f, const YAML::Node& n, const std::string& path,
+                        const RobotDescriptor& d, Actuator& a) {
+  const bool pd = n["kp"] || n["kd"];
+  for (const char* key : {"gain", "max_speed"})
+    if (pd && n[key])
+      return f.Error(n[key], JoinPath(path, key),
+                     "a PD servo (kp, kd) has no speed command (gain, max_speed)");
+  if (!pd) {
+    for (auto [key, out] : {std::pair{"gain", &a.gain}, std::pair{"max_speed", &a.max_speed}})
+      if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, *out); !s.ok()) return s;
+    return absl::OkStatus();
+  }
+  Expr kp, kd;
+  if (Status s = ReadExpr(f, n["kp"], JoinPath(path, "kp"), d, kp); !s.ok()) return s;
+  if (Status s = ReadExpr(f, n["kd"], JoinPath(path, "kd"), d, kd); !s.ok()) return s;
+  a.kp = kp;
+  a.kd = kd;
+  return absl::OkStatus();
+}
+
 Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string& path,
                      RobotDescriptor& d) {
   Actuator a;
@@ -329,8 +350,8 @@ Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string
   }
   if (a.type != "servo")
     return f.Error(n["type"], path + ".type", "must be servo, piston or tendon");
-  if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "max_torque",
-                                      "lag_s"});
+  if (Status s = f.CheckMap(n, path, {"name", "type", "joint", "gain", "max_speed", "kp", "kd",
+                                      "max_torque", "lag_s"});
       !s.ok())
     return s;
   auto joint = f.String(n["joint"], path + ".joint");
@@ -340,8 +361,8 @@ Status ParseActuator(const YamlFields& f, const YAML::Node& n, const std::string
     return f.Error(n["joint"], path + ".joint",
                    absl::StrCat(j ? "a servo turns a hinge; '" : "no joint named '", a.joint,
                                 j ? "' is fixed" : "'"));
-  for (auto [key, out] : {std::pair{"gain", &a.gain}, std::pair{"max_speed", &a.max_speed},
-                          std::pair{"max_torque", &a.max_torque}, std::pair{"lag_s", &a.lag_s}}) {
+  if (Status s = ReadServoControl(f, n, path, d, a); !s.ok()) return s;
+  for (auto [key, out] : {std::pair{"max_torque", &a.max_torque}, std::pair{"lag_s", &a.lag_s}}) {
     if (Status s = ReadExpr(f, n[key], JoinPath(path, key), d, *out); !s.ok()) return s;
   }
   d.actuators.push_back(std::move(a));

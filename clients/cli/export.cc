@@ -44,7 +44,7 @@ std::vector<double> SpeedLimits(const robots::RobotDescriptor& d) {
   for (const std::string& name : d.controller.actuators) {
     double limit = NAN;
     for (const auto& a : d.actuators)
-      if (a.name == name && a.type == "servo") limit = a.max_speed.Eval(value);
+      if (a.name == name && a.type == "servo" && !a.kp) limit = a.max_speed.Eval(value);
     out.push_back(limit);
   }
   return out;

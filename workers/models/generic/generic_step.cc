@@ -100,6 +100,12 @@ void GenericWorld::ApplyServos(const std::vector<double>& commands) {
     // geared motor holds (speed 0 up to max_torque).
     const double error = s.command - angle;
     const double drive = std::fabs(error) <= fx_.servo_deadband ? 0.0 : error;
+    if (s.pd) {  // an explicit torque (stable while h kd / I and h^2 kp / I stay small)
+      const double rate = dJointGetHingeAngleRate(joints_[s.joint]);
+      s.torque = std::clamp(s.kp * drive - s.kd * rate, -s.max_torque, s.max_torque);
+      dJointAddHingeTorque(joints_[s.joint], s.torque);
+      continue;
+    }
     const double speed = std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
     dJointSetHingeParam(joints_[s.joint], dParamVel, speed);
   }
@@ -254,6 +260,12 @@ void GenericWorld::Observe() {
   const double pitch = std::atan2(r[2], r[10]), roll = std::atan2(r[6], r[10]);
   max_tilt_ = std::max({max_tilt_, std::fabs(pitch), std::fabs(roll)});
   for (size_t i = 0; i < servos_.size(); ++i) {
+    if (servos_[i].pd) {  // its own torque, which turns the hinge's angle up
+      const Servo& s = servos_[i];
+      if (std::fabs(s.torque) >= 0.99 * s.max_torque) ++torque_limited_;
+      servo_energy_ += std::max(0.0, s.torque * dJointGetHingeAngleRate(joints_[s.joint])) * h_;
+      continue;
+    }
     // The torque about the hinge axis that the joint put on its second body: the reaction's
     // torque about that body's centre less the moment of the reaction's force at the anchor.
     const dJointID j = joints_[servos_[i].joint];

@@ -347,17 +347,27 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
     s.actuator = static_cast<int>(index);
     for (size_t i = 0; i < d_.joints.size(); ++i)
       if (d_.joints[i].name == a.joint) s.joint = static_cast<int>(i);
-    s.gain = Eval(a.gain, v);
-    s.max_speed = Eval(a.max_speed, v);
     s.max_torque = Eval(a.max_torque, v);
     const double lag = Eval(a.lag_s, v);
-    if (!(s.gain > 0 && s.max_speed > 0 && s.max_torque >= 0 && lag >= 0))
-      return absl::InvalidArgumentError(absl::StrCat(
-          a.mark.ToString(), ": servo ", a.name,
-          " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
+    s.pd = a.kp.has_value();
+    if (s.pd) {
+      s.kp = Eval(*a.kp, v);
+      s.kd = Eval(*a.kd, v);
+      if (!(s.kp > 0 && s.kd >= 0 && s.max_torque > 0 && lag >= 0))
+        return absl::InvalidArgumentError(absl::StrCat(
+            a.mark.ToString(), ": PD servo ", a.name,
+            " needs kp > 0, kd >= 0, max_torque > 0 and lag_s >= 0"));
+    } else {
+      s.gain = Eval(a.gain, v);
+      s.max_speed = Eval(a.max_speed, v);
+      if (!(s.gain > 0 && s.max_speed > 0 && s.max_torque >= 0 && lag >= 0))
+        return absl::InvalidArgumentError(absl::StrCat(
+            a.mark.ToString(), ": servo ", a.name,
+            " needs gain > 0, max_speed > 0, max_torque >= 0 and lag_s >= 0"));
+      dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
+    }
     s.lag_keep = lag > 0 ? std::exp(-h_ / lag) : 0;
     s.extra_keep = fx_.actuator_lag > 0 ? std::exp(-h_ / fx_.actuator_lag) : 0;
-    dJointSetHingeParam(joints_[s.joint], dParamFMax, s.max_torque);
     // The joint's reaction, read after each step for the torque the servo gave.
     dJointSetFeedback(joints_[s.joint], &feedback_.emplace_back());
     servos_.push_back(s);

@@ -248,6 +248,9 @@ class GenericWorld : public RobotWorld {
     int actuator = 0;  // its index in the descriptor's actuators (and commands)
     int joint = 0;
     double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0;
+    // A PD servo (kp, kd): an explicit torque, the last one applied kept for its power.
+    bool pd = false;
+    double kp = 0, kd = 0, torque = 0;
     // effect.actuator_lag_s: a further lag in series, before the servo's own (0: none).
     double extra_keep = 0;
     double extra = 0;    // the command after the effect's lag (rad)

@@ -199,7 +199,16 @@ absl::StatusOr<std::string> ToMjcf(const robots::RobotDescriptor& d, const Param
     if (a.type != "servo")
       return absl::InvalidArgumentError(absl::StrCat(
           a.mark.ToString(), ": the MuJoCo build drives servos only, not ", a.type, " ", a.name));
-    const double torque = Eval(a.max_torque, v), speed = Eval(a.max_speed, v);
+    const double torque = Eval(a.max_torque, v);
+    if (a.kp) {  // PD: a torque motor, its torque set each step (mujoco_world.cc)
+      if (!(torque > 0))
+        return absl::InvalidArgumentError(
+            absl::StrCat(a.mark.ToString(), ": servo ", a.name, " needs max_torque > 0"));
+      w.out << "    <motor name=\"" << a.name << "\" joint=\"" << a.joint
+            << "\" ctrllimited=\"true\" ctrlrange=\"" << Num(-torque) << " " << Num(torque) << "\"/>\n";
+      continue;
+    }
+    const double speed = Eval(a.max_speed, v);
     if (!(torque > 0 && speed > 0))
       return absl::InvalidArgumentError(absl::StrCat(a.mark.ToString(), ": servo ", a.name,
                                                      " needs max_torque > 0 and max_speed > 0"));

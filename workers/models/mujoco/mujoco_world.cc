@@ -72,8 +72,14 @@ absl::StatusOr<std::unique_ptr<MujocoWorld>> MujocoWorld::Build(const robots::Ro
     s.joint = mj_name2id(w->m_, mjOBJ_JOINT, a.joint.c_str());
     s.qpos = w->m_->jnt_qposadr[s.joint];
     s.dof = w->m_->jnt_dofadr[s.joint];
-    s.gain = Eval(a.gain, v);
-    s.max_speed = Eval(a.max_speed, v);
+    s.pd = a.kp.has_value();
+    if (s.pd) {
+      s.kp = Eval(*a.kp, v);
+      s.kd = Eval(*a.kd, v);
+    } else {
+      s.gain = Eval(a.gain, v);
+      s.max_speed = Eval(a.max_speed, v);
+    }
     s.max_torque = Eval(a.max_torque, v);
     const double lag = Eval(a.lag_s, v);
     s.lag_keep = lag > 0 ? std::exp(-w->h_ / lag) : 0;
@@ -109,7 +115,8 @@ void MujocoWorld::SetServos(const std::vector<double>& commands) {
     s.command = steps_ > 0 ? s.extra + (s.command - s.extra) * s.lag_keep : s.extra;
     const double error = s.command - data_->qpos[s.qpos];
     const double drive = std::fabs(error) <= fx_.servo_deadband ? 0.0 : error;
-    data_->ctrl[i] = std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
+    data_->ctrl[i] = s.pd ? std::clamp(s.kp * drive - s.kd * data_->qvel[s.dof], -s.max_torque, s.max_torque)
+                          : std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
   }
 }
 

@@ -53,6 +53,8 @@ class MujocoWorld : public generic::RobotWorld {
   struct Servo {
     int joint = 0, qpos = 0, dof = 0;  // MuJoCo indexes
     double gain = 0, max_speed = 0, max_torque = 0, lag_keep = 0, extra_keep = 0;
+    bool pd = false;  // a PD torque (kp, kd) instead of a speed command
+    double kp = 0, kd = 0;
     double extra = 0, command = 0;
   };
   struct Marker {
