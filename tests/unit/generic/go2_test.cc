@@ -1,0 +1,98 @@
+// Paper 002's Go2 on castors as data (robots/go2_castors/robot.yaml): it stands on its four
+// feet, the PD joints holding the stand with a sag that their stiffness sets; with its legs
+// folded it rests on its four castors at the paper's torso height, and they roll freely (on
+// a slope it accelerates at g sin s, as on ice).
+#include <cmath>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "robots/registry.h"
+#include "workers/models/generic/generic_world.h"
+#include "workers/sim/ode_runtime.h"
+
+namespace gaitforge::generic {
+namespace {
+
+const robots::RobotDescriptor& Go2() { return robots::Robot("go2_castors"); }
+
+class Go2Test : public ::testing::Test {
+ protected:
+  void SetUp() override { sim::InitThread(); }
+};
+
+// The thigh joints' height in the stand as built (m): the foot's radius under the leg.
+double BuiltHeight(const ParamValues& v) {
+  return v("foot.radius_m") + 0.764842 * v("calf.length_m") + 0.696707 * v("thigh.length_m");
+}
+
+// The torso's height (m) after `steps` of the same commands.
+double Settle(GenericWorld& w, const std::vector<double>& commands, int steps) {
+  for (int i = 0; i < steps; ++i) {
+    const auto out = w.Step(commands);
+    EXPECT_TRUE(out.ok) << out.reason;
+    if (!out.ok) break;
+  }
+  return *w.Channel("torso.z");
+}
+
+// Thighs back and up (+1.2 rad from the stand) and calves folded (-1.2 rad, near their
+// stop): the feet clear the floor by about 2 cm once the body rests on its castors.
+std::vector<double> Folded() {
+  std::vector<double> c(12, 0.0);
+  for (int leg = 0; leg < 4; ++leg) {
+    c[3 * leg + 1] = 1.2;
+    c[3 * leg + 2] = -1.2;
+  }
+  return c;
+}
+
+TEST_F(Go2Test, StandsOnItsFeetSaggingByItsJointsStiffness) {
+  double sag[2], tilt[2];
+  for (int k = 0; k < 2; ++k) {
+    ParamValues v(Go2());
+    ASSERT_TRUE(v.Set("motor.kp_nm_per_rad", k == 0 ? 30 : 300).ok());
+    auto w = GenericWorld::Build(Go2(), v, 0);
+    ASSERT_TRUE(w.ok()) << w.status();
+    sag[k] = BuiltHeight(v) - Settle(**w, std::vector<double>(12, 0.0), 2000);
+    EXPECT_EQ((*w)->ground_contacts(), 4) << "the four feet, castors clear";
+    tilt[k] = (*w)->max_tilt();
+  }
+  // 15.5 kg on PD joints without the stance's feed-forward: about 5 cm at kp 30, pitched
+  // forward (its centre of mass lies 21 mm ahead of the hips' centre), and joints ten
+  // times stiffer sag less than a tenth as much, level.
+  EXPECT_GT(sag[0], 0.03);
+  EXPECT_LT(sag[0], 0.08);
+  EXPECT_LT(tilt[0], 0.2);
+  EXPECT_LT(sag[1], 0.1 * sag[0]);
+  EXPECT_LT(tilt[1], 0.01);
+}
+
+TEST_F(Go2Test, WithItsLegsFoldedItRestsOnItsCastorsAtThePapersHeight) {
+  ParamValues v(Go2());
+  auto w = GenericWorld::Build(Go2(), v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  const double z = Settle(**w, Folded(), 2000);
+  // Torso centre 105 mm up when sliding (paper): here the castors' 51 mm support, half the
+  // base's height and its centre of mass 5 mm under the hips' plane.
+  EXPECT_NEAR(z, v("castor.support_m") + 0.5 * v("base.height_m") - v("base.com_z_m"), 0.002);
+  EXPECT_EQ((*w)->ground_contacts(), 4) << "the four castors, feet clear";
+}
+
+TEST_F(Go2Test, ItsCastorsRollFreely) {
+  ParamValues v(Go2());
+  const double s = 0.05;
+  ASSERT_TRUE(v.Set("effect.slope_rad", s).ok());
+  auto w = GenericWorld::Build(Go2(), v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  Settle(**w, Folded(), 1500);
+  double x[3];
+  for (double& xi : x) {
+    Settle(**w, Folded(), 500);
+    xi = *(*w)->Channel("torso.x");
+  }
+  const double a = (x[2] - 2 * x[1] + x[0]) / (0.5 * 0.5);
+  EXPECT_NEAR(a, -v("simulation.gravity_m_per_s2") * std::sin(s), 0.03 * 9.81 * std::sin(s));
+}
+
+}  // namespace
+}  // namespace gaitforge::generic
