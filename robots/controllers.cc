@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "robots/leg_gait.h"
+
 namespace gaitforge::robots {
 namespace {
 
@@ -219,6 +221,25 @@ const std::vector<ControllerKind>& ControllerKinds() {
        &CpgInitial,
        &CpgAdvance,
        &CpgCommands},
+      {"leg_gait",
+       "a quadruped's gait scheduler: per foot a straight stance stroke backwards and a "
+       "cycloid swing, through each leg's two-link inverse kinematics; genes T, stance, lift, "
+       "speed, height, load (the weight's share on the stance feet, "
+       "fed forward as torques), lr (left-right phase: 0.5 trot, 0 paper 002's slide), fh "
+       "(front-rear phase); 12 actuators, legs FR, FL, RR, RL x (hip, thigh, calf) (paper 002)",
+       {"period_s", "stance_ratio", "lift_m", "speed_m_per_s", "height_m", "load_share"},
+       &LegGaitGenes,
+       &LegGaitPeriod,
+       &LegGaitCommands,
+       true,
+       12,
+       nullptr,
+       nullptr,
+       nullptr,
+       0.05,
+       1e300,
+       {"thigh_m", "calf_m", "thigh_stand_rad", "calf_stand_rad", "mass_kg"},
+       true},
   };
   return kinds;
 }

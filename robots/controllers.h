@@ -40,6 +40,13 @@ struct ControllerKind {
   // The gait periods (s) the kind can run; a genotype outside is an invalid evaluation
   // with the reason. Wider than any robot's gene range, so that studies may explore beyond.
   double min_period_s = 0, max_period_s = 1e300;
+  // Numbers the descriptor must give (controller.<key>: a number, a parameter or a linear
+  // expression of them, taken at the parameters' nominal values: the controller's own
+  // model of the robot, as a real robot's controller has one; leg_gait: its leg lengths).
+  std::vector<std::string> value_keys = {};
+  // Its commands are the set-points followed by as many feed-forward torques (N m), which
+  // PD servos add to their own torque (leg_gait: the stance legs carrying the body).
+  bool feed_forward = false;
 };
 
 // The commands of one genotype over a run, asked in time order. A stateless kind is a

@@ -101,6 +101,8 @@ struct Controller {
   // The kind's ranges by key (phase_onoff: period_s; sine: frequency_hz, amplitude_rad,
   // offset_rad), each [lo, hi].
   std::map<std::string, std::array<double, 2>> ranges;
+  // The kind's numbers by key (leg_gait: thigh_m, calf_m, ...), at nominal values.
+  std::map<std::string, double> values;
   std::vector<Gene> genes;             // derived from the kind; the gene space
 };
 

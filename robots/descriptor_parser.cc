@@ -154,6 +154,7 @@ Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescrip
   }
   std::vector<std::string> allowed = {"kind", "actuators"};
   allowed.insert(allowed.end(), k->range_keys.begin(), k->range_keys.end());
+  allowed.insert(allowed.end(), k->value_keys.begin(), k->value_keys.end());
   if (Status s = f.CheckMap(node, "controller", allowed); !s.ok()) return s;
   Controller& c = d.controller;
   c.kind = *kind;
@@ -174,6 +175,11 @@ Status ParseController(const YamlFields& f, const YAML::Node& node, RobotDescrip
     if ((key == "period_s" || key == "frequency_hz") && !(r[0] > 0))
       return f.Error(node[key], path, "must be > 0");
     c.ranges[key] = r;
+  }
+  for (const std::string& key : k->value_keys) {
+    Expr e;
+    if (Status s = ReadExprField(f, node[key], "controller." + key, d, e); !s.ok()) return s;
+    c.values[key] = e.Eval([&d](const std::string& n) { return d.Value(n); });
   }
   c.genes = k->genes(c);
   return absl::OkStatus();

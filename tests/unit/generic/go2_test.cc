@@ -1,12 +1,15 @@
 // Paper 002's Go2 on castors as data (robots/go2_castors/robot.yaml): it stands on its four
 // feet, the PD joints holding the stand with a sag that their stiffness sets; with its legs
 // folded it rests on its four castors at the paper's torso height, and they roll freely (on
-// a slope it accelerates at g sin s, as on ice).
+// a slope it accelerates at g sin s, as on ice); on them it slides forwards by paper 002's
+// paddling gait (leg_gait: left and right legs in phase, the front pair half a cycle after
+// the rear), straight and at most its commanded speed.
 #include <cmath>
 #include <vector>
 
 #include "gtest/gtest.h"
 #include "robots/registry.h"
+#include "workers/models/generic/generic_gait.h"
 #include "workers/models/generic/generic_world.h"
 #include "workers/sim/ode_runtime.h"
 
@@ -92,6 +95,30 @@ TEST_F(Go2Test, ItsCastorsRollFreely) {
   }
   const double a = (x[2] - 2 * x[1] + x[0]) / (0.5 * 0.5);
   EXPECT_NEAR(a, -v("simulation.gravity_m_per_s2") * std::sin(s), 0.03 * 9.81 * std::sin(s));
+}
+
+TEST_F(Go2Test, ItSlidesOnItsCastorsByPaddling) {
+  ParamValues v(Go2());
+  // Paper 002's slide at its slowest speed: T 0.8 s, stance 0.6, lift 0.03 m, 0.16 m/s; the
+  // thigh joints 0.1 m over the feet (the base rests on its castors), the stance feet
+  // carrying 30% of the weight; lr 0, fh 0.5.
+  const auto run = SimulateChannels(Go2(), v, {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5}, 10, 50,
+                                    0, {}, 1);
+  ASSERT_TRUE(run.valid) << run.reason;
+  const auto& tr = run.trajectory;
+  auto column = [&](const std::string& name) {
+    for (size_t c = 0; c < tr.channels.size(); ++c)
+      if (tr.channels[c] == name) return tr.columns[c];
+    ADD_FAILURE() << name;
+    return std::vector<double>{};
+  };
+  const auto x = column("torso.x"), y = column("torso.y"), z = column("torso.z");
+  const double speed = (x.back() - x.front()) / (tr.t.back() - tr.t.front());
+  EXPECT_GT(speed, 0.5 * 0.16);
+  EXPECT_LT(speed, 1.05 * 0.16);
+  EXPECT_NEAR(y.back(), 0, 0.01);  // straight: its legs move in mirror pairs
+  const double rest = v("castor.support_m") + 0.5 * v("base.height_m") - v("base.com_z_m");
+  for (double zi : z) EXPECT_NEAR(zi, rest, 0.012);  // on its castors throughout
 }
 
 }  // namespace

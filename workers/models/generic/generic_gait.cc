@@ -45,8 +45,11 @@ DescriptorOrder::DescriptorOrder(const robots::RobotDescriptor& d) : actuators_(
 }
 
 void DescriptorOrder::Place(const std::vector<double>& command, std::vector<double>& out) const {
-  out.assign(actuators_, 0.0);
+  const bool torques = !slot_.empty() && command.size() == 2 * slot_.size();
+  out.assign(torques ? 2 * actuators_ : actuators_, 0.0);
   for (size_t k = 0; k < slot_.size() && k < command.size(); ++k) out[slot_[k]] = command[k];
+  if (torques)
+    for (size_t k = 0; k < slot_.size(); ++k) out[actuators_ + slot_[k]] = command[slot_.size() + k];
 }
 
 std::vector<double> DescriptorOrder::operator()(const std::vector<double>& command) const {

@@ -55,7 +55,9 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
 class DescriptorOrder {
  public:
   explicit DescriptorOrder(const robots::RobotDescriptor& d);
-  // out[slot of k] = command[k]; the other actuators 0. `out` is resized as needed.
+  // out[slot of k] = command[k]; the other actuators 0. `out` is resized as needed. A
+  // command with feed-forward torques after its set-points (twice as long) places them
+  // after the descriptor's set-points: out[actuators + slot of k] = command[K + k].
   void Place(const std::vector<double>& command, std::vector<double>& out) const;
   std::vector<double> operator()(const std::vector<double>& command) const;
 

@@ -102,7 +102,10 @@ void GenericWorld::ApplyServos(const std::vector<double>& commands) {
     const double drive = std::fabs(error) <= fx_.servo_deadband ? 0.0 : error;
     if (s.pd) {  // an explicit torque (stable while h kd / I and h^2 kp / I stay small)
       const double rate = dJointGetHingeAngleRate(joints_[s.joint]);
-      s.torque = std::clamp(s.kp * drive - s.kd * rate, -s.max_torque, s.max_torque);
+      // A controller's feed-forward torque follows the set-points (DescriptorOrder).
+      const size_t ff = d_.actuators.size() + static_cast<size_t>(s.actuator);
+      const double feed = ff < commands.size() ? commands[ff] : 0.0;
+      s.torque = std::clamp(s.kp * drive - s.kd * rate + feed, -s.max_torque, s.max_torque);
       dJointAddHingeTorque(joints_[s.joint], s.torque);
       continue;
     }

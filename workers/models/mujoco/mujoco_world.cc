@@ -115,7 +115,8 @@ void MujocoWorld::SetServos(const std::vector<double>& commands) {
     s.command = steps_ > 0 ? s.extra + (s.command - s.extra) * s.lag_keep : s.extra;
     const double error = s.command - data_->qpos[s.qpos];
     const double drive = std::fabs(error) <= fx_.servo_deadband ? 0.0 : error;
-    data_->ctrl[i] = s.pd ? std::clamp(s.kp * drive - s.kd * data_->qvel[s.dof], -s.max_torque, s.max_torque)
+    const double feed = servos_.size() + i < commands.size() ? commands[servos_.size() + i] : 0.0;
+    data_->ctrl[i] = s.pd ? std::clamp(s.kp * drive - s.kd * data_->qvel[s.dof] + feed, -s.max_torque, s.max_torque)
                           : std::clamp(s.gain * drive, -s.max_speed, s.max_speed);
   }
 }

@@ -1,0 +1,92 @@
+#include "robots/leg_gait.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gaitforge::robots {
+
+std::array<double, 2> LegAngles(double thigh_m, double calf_m, double x, double z) {
+  const double l1 = thigh_m, l2 = calf_m;
+  double d = std::hypot(x, z);
+  const double reach = std::clamp(d, std::fabs(l1 - l2) + 1e-9, l1 + l2 - 1e-9);
+  if (d > 0) {
+    x *= reach / d;
+    z *= reach / d;
+  } else {
+    z = -reach;
+  }
+  d = reach;
+  const double knee = -std::acos(std::clamp((d * d - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0));
+  // The target's angle from straight down, less the foot's from the thigh's direction.
+  const double target = std::atan2(-x, -z);
+  const double foot = std::atan2(l2 * std::sin(knee), l1 + l2 * std::cos(knee));
+  return {target - foot, knee};
+}
+
+std::vector<Gene> LegGaitGenes(const Controller& c) {
+  auto g = [&](const char* name, const char* key) {
+    const auto& r = c.ranges.at(key);
+    return Gene{name, r[0], r[1]};
+  };
+  return {g("T", "period_s"),        g("stance", "stance_ratio"), g("lift", "lift_m"),
+          g("speed", "speed_m_per_s"), g("height", "height_m"),     g("load", "load_share"),
+          {"lr", 0, 1, true},          {"fh", 0, 1, true}};
+}
+
+double LegGaitPeriod(const std::vector<double>& genes) { return genes[0]; }
+
+namespace {
+
+// The foot's path at phase p in [0, 1): stance from +stroke/2 back to -stroke/2 on the
+// ground, then a cycloid forwards and up by lift. Returns (x, height above the ground line).
+std::array<double, 2> FootPath(double p, double stance, double stroke, double lift) {
+  if (p < stance) return {stroke * (0.5 - p / stance), 0.0};
+  const double s = (p - stance) / (1 - stance);
+  constexpr double kTwoPi = 2 * M_PI;
+  return {stroke * (s - std::sin(kTwoPi * s) / kTwoPi - 0.5), lift * 0.5 * (1 - std::cos(kTwoPi * s))};
+}
+
+}  // namespace
+
+std::array<double, 2> StanceTorques(double l1, double l2, const std::array<double, 2>& q,
+                                   double force) {
+  // tau = -J^T (0, F): the joint torques that hold the ground's push F up on the foot, J
+  // the foot's position (x = -l1 sin q1 - l2 sin(q1 + q2), z = -l1 cos q1 - l2 cos(q1 + q2))
+  // differentiated by the angles.
+  const double s1 = std::sin(q[0]), s12 = std::sin(q[0] + q[1]);
+  return {-force * (l1 * s1 + l2 * s12), -force * l2 * s12};
+}
+
+std::vector<double> LegGaitCommands(const Controller& c, const std::vector<double>& g, double t) {
+  const double l1 = c.values.at("thigh_m"), l2 = c.values.at("calf_m");
+  const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
+  // The stand's foot, ahead of (+) or behind the thigh joint: the stroke's centre.
+  const double x0 = -l1 * std::sin(q1s) - l2 * std::sin(q1s + q2s);
+  const double period = g[0], stance = g[1], lift = g[2], speed = g[3], height = g[4];
+  const double stroke = speed * stance * period;
+  const double offset[4] = {0, g[6], g[7], g[7] + g[6]};  // FR, FL, RR, RL
+  double phase[4];
+  int on_ground = 0;
+  for (int leg = 0; leg < 4; ++leg) {
+    const double ph = t / period + offset[leg];
+    phase[leg] = ph - std::floor(ph);
+    on_ground += phase[leg] < stance;
+  }
+  // The stance feet share `load` of the weight evenly (paper 002's QP, closed form for
+  // vertical forces; the castors carry the rest).
+  const double force = g[5] * c.values.at("mass_kg") * kStandardGravity / std::max(1, on_ground);
+  std::vector<double> out(24, 0.0);
+  for (int leg = 0; leg < 4; ++leg) {
+    const auto [x, up] = FootPath(phase[leg], stance, stroke, lift);
+    const auto q = LegAngles(l1, l2, x0 + x, -height + up);
+    out[3 * leg + 1] = q[0] - q1s;
+    out[3 * leg + 2] = q[1] - q2s;
+    if (phase[leg] >= stance) continue;
+    const auto tau = StanceTorques(l1, l2, q, force);
+    out[12 + 3 * leg + 1] = tau[0];
+    out[12 + 3 * leg + 2] = tau[1];
+  }
+  return out;
+}
+
+}  // namespace gaitforge::robots

@@ -1,0 +1,79 @@
+// The leg_gait controller kind (robots/leg_gait.h): its two-link inverse kinematics, the
+// stance torques that hold a foot's load, and the phase patterns of a trot and paper 002's
+// slide, on the Go2's controller section (robots/go2_castors/robot.yaml).
+#include <cmath>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "robots/leg_gait.h"
+#include "robots/registry.h"
+
+namespace gaitforge::robots {
+namespace {
+
+constexpr double kL1 = 0.213, kL2 = 0.213;
+
+std::array<double, 2> Foot(const std::array<double, 2>& q) {
+  return {-kL1 * std::sin(q[0]) - kL2 * std::sin(q[0] + q[1]),
+          -kL1 * std::cos(q[0]) - kL2 * std::cos(q[0] + q[1])};
+}
+
+TEST(LegGait, InverseKinematicsPutsTheFootWhereAsked) {
+  // The Go2's stand (thigh 0.8, calf -1.5) and other reachable points, knee folded back.
+  const auto stand = Foot({0.8, -1.5});
+  const auto q = LegAngles(kL1, kL2, stand[0], stand[1]);
+  EXPECT_NEAR(q[0], 0.8, 1e-9);
+  EXPECT_NEAR(q[1], -1.5, 1e-9);
+  for (auto [x, z] : {std::pair{0.1, -0.25}, std::pair{-0.12, -0.2}, std::pair{0.05, -0.09}}) {
+    const auto a = LegAngles(kL1, kL2, x, z);
+    EXPECT_LT(a[1], 0);
+    const auto f = Foot(a);
+    EXPECT_NEAR(f[0], x, 1e-9);
+    EXPECT_NEAR(f[1], z, 1e-9);
+  }
+  // Out of reach: the leg stretches towards the target, nothing undefined.
+  const auto far = Foot(LegAngles(kL1, kL2, 0, -0.6));
+  EXPECT_NEAR(far[0], 0, 1e-6);
+  EXPECT_NEAR(far[1], -(kL1 + kL2), 1e-6);
+}
+
+TEST(LegGait, StanceTorquesDoTheVirtualWorkOfTheFootsLoad) {
+  // tau . dq = -f . dp for any small motion: the torques balance the ground's push f.
+  const std::array<double, 2> q = {0.8, -1.5};
+  const double force = 38;
+  const auto tau = StanceTorques(kL1, kL2, q, force);
+  for (int j = 0; j < 2; ++j) {
+    std::array<double, 2> q2 = q;
+    q2[j] += 1e-7;
+    const double dz = Foot(q2)[1] - Foot(q)[1];
+    EXPECT_NEAR(tau[j] * 1e-7, -force * dz, 1e-10) << j;
+  }
+  EXPECT_NEAR(tau[1], force * kL2 * std::sin(0.7), 1e-9);  // the knee unfolds against it
+}
+
+TEST(LegGait, TrotAndSlideArePhasePatternsWithTheWeightOnTheStanceFeet) {
+  const Controller& c = Robot("go2_castors").controller;
+  ASSERT_EQ(c.kind, "leg_gait");
+  const double stand = kL1 * std::cos(0.8) + kL2 * std::cos(0.7);
+  // T, stance, lift, speed, height, load, lr, fh: standing in place holds the stand.
+  const auto held = LegGaitCommands(c, {0.6, 0.5, 0, 0, stand, 1, 0.5, 0.5}, 0.1);
+  ASSERT_EQ(held.size(), 24u);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(held[i], 0, 1e-6) << i;
+  // A trot: FR and RL on the ground together, FL and RR in the air (lifted: calf folded).
+  const auto trot = LegGaitCommands(c, {0.6, 0.5, 0.08, 0.22, stand, 1, 0.5, 0.5}, 0.1);
+  const double weight = c.values.at("mass_kg") * kStandardGravity;
+  for (int leg : {0, 3}) EXPECT_GT(trot[12 + 3 * leg + 2], 0.1 * weight * kL2 / 2) << leg;
+  for (int leg : {1, 2}) {
+    EXPECT_EQ(trot[12 + 3 * leg + 2], 0) << leg;
+    EXPECT_LT(trot[3 * leg + 2], -0.05) << leg;
+  }
+  // The slide: left and right in phase, the front half a cycle after the rear.
+  const auto slide = LegGaitCommands(c, {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5}, 0.3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(slide[i], slide[3 + i], 1e-12);  // FR = FL
+    EXPECT_NEAR(slide[6 + i], slide[9 + i], 1e-12);  // RR = RL
+  }
+}
+
+}  // namespace
+}  // namespace gaitforge::robots
