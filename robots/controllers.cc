@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "robots/leg_gait.h"
+#include "robots/leg_stance.h"
 
 namespace gaitforge::robots {
 namespace {
@@ -164,7 +165,8 @@ ControllerRun::ControllerRun(const Controller& c, std::vector<double> genes)
   if (kind_.initial_state) state_ = kind_.initial_state(c_, genes_);
 }
 
-std::vector<double> ControllerRun::At(double t) {
+std::vector<double> ControllerRun::At(double t, const BodyState* base) {
+  if (kind_.feedback && base) return kind_.feedback(c_, genes_, t, *base);
   if (!kind_.advance) return kind_.commands(c_, genes_, t);
   const long target = static_cast<long>(std::floor(t / kStep + 1e-9));
   for (; steps_ < target; ++steps_) kind_.advance(c_, genes_, kStep, state_);
@@ -238,8 +240,10 @@ const std::vector<ControllerKind>& ControllerKinds() {
        nullptr,
        0.05,
        1e300,
-       {"thigh_m", "calf_m", "thigh_stand_rad", "calf_stand_rad", "mass_kg"},
-       true},
+       {"thigh_m", "calf_m", "thigh_stand_rad", "calf_stand_rad", "mass_kg", "front_hip_x_m",
+        "rear_hip_x_m", "hip_y_m", "hip_z_m", "hip_offset_m"},
+       true,
+       &LegGaitFeedback},
   };
   return kinds;
 }

@@ -2,6 +2,7 @@
 // Controller kinds a descriptor may name (docs/robots.md, "controller"). A kind turns the
 // descriptor's controller section into its gene space; the worker side that runs it is
 // registered by the same name. Adding a kind is one entry in ControllerKinds().
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -9,6 +10,15 @@
 #include "robots/descriptor.h"
 
 namespace gaitforge::robots {
+
+// A body's state as a feedback controller sees it (the robot's first body, its base): its
+// centre, its rotation (row-major, body frame to world), its centre's velocity and its
+// angular velocity (world frame).
+struct BodyState {
+  std::array<double, 3> position{};
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::array<double, 3> velocity{}, spin{};
+};
 
 struct ControllerKind {
   std::string name;
@@ -47,6 +57,10 @@ struct ControllerKind {
   // Its commands are the set-points followed by as many feed-forward torques (N m), which
   // PD servos add to their own torque (leg_gait: the stance legs carrying the body).
   bool feed_forward = false;
+  // A feedback kind: its commands at t given the base's state (ControllerRun::At with a
+  // state); without one it falls back to `commands`, its open-loop schedule.
+  std::vector<double> (*feedback)(const Controller& c, const std::vector<double>& genes, double t,
+                                  const BodyState& base) = nullptr;
 };
 
 // The commands of one genotype over a run, asked in time order. A stateless kind is a
@@ -58,8 +72,9 @@ class ControllerRun {
   static constexpr double kStep = 1e-3;  // s
   ControllerRun(const Controller& c, std::vector<double> genes);
   // Each actuator's command at t >= 0 (s), in the controller's order; t must not decrease
-  // between calls.
-  std::vector<double> At(double t);
+  // between calls. A feedback kind given the base's state closes its loop on it.
+  std::vector<double> At(double t, const BodyState* base = nullptr);
+  bool feedback() const { return kind_.feedback != nullptr; }
   // A stateful kind's state after the last At (cpg: the four phases, rad); else empty.
   const std::vector<double>& state() const { return state_; }
 

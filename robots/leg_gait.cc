@@ -57,7 +57,7 @@ std::array<double, 2> StanceTorques(double l1, double l2, const std::array<doubl
   return {-force * (l1 * s1 + l2 * s12), -force * l2 * s12};
 }
 
-std::vector<double> LegGaitCommands(const Controller& c, const std::vector<double>& g, double t) {
+LegSchedule Schedule(const Controller& c, const std::vector<double>& g, double t) {
   const double l1 = c.values.at("thigh_m"), l2 = c.values.at("calf_m");
   const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
   // The stand's foot, ahead of (+) or behind the thigh joint: the stroke's centre.
@@ -65,24 +65,30 @@ std::vector<double> LegGaitCommands(const Controller& c, const std::vector<doubl
   const double period = g[0], stance = g[1], lift = g[2], speed = g[3], height = g[4];
   const double stroke = speed * stance * period;
   const double offset[4] = {0, g[6], g[7], g[7] + g[6]};  // FR, FL, RR, RL
-  double phase[4];
-  int on_ground = 0;
+  LegSchedule s;
   for (int leg = 0; leg < 4; ++leg) {
     const double ph = t / period + offset[leg];
-    phase[leg] = ph - std::floor(ph);
-    on_ground += phase[leg] < stance;
+    const double phase = ph - std::floor(ph);
+    s.stance[leg] = phase < stance;
+    s.on_ground += s.stance[leg];
+    const auto [x, up] = FootPath(phase, stance, stroke, lift);
+    s.q[leg] = LegAngles(l1, l2, x0 + x, -height + up);
+    s.commands[3 * leg + 1] = s.q[leg][0] - q1s;
+    s.commands[3 * leg + 2] = s.q[leg][1] - q2s;
   }
+  return s;
+}
+
+std::vector<double> LegGaitCommands(const Controller& c, const std::vector<double>& g, double t) {
+  const LegSchedule s = Schedule(c, g, t);
   // The stance feet share `load` of the weight evenly (paper 002's QP, closed form for
   // vertical forces; the castors carry the rest).
-  const double force = g[5] * c.values.at("mass_kg") * kStandardGravity / std::max(1, on_ground);
-  std::vector<double> out(24, 0.0);
+  const double force = g[5] * c.values.at("mass_kg") * kStandardGravity / std::max(1, s.on_ground);
+  std::vector<double> out(s.commands.begin(), s.commands.end());
+  out.resize(24, 0.0);
   for (int leg = 0; leg < 4; ++leg) {
-    const auto [x, up] = FootPath(phase[leg], stance, stroke, lift);
-    const auto q = LegAngles(l1, l2, x0 + x, -height + up);
-    out[3 * leg + 1] = q[0] - q1s;
-    out[3 * leg + 2] = q[1] - q2s;
-    if (phase[leg] >= stance) continue;
-    const auto tau = StanceTorques(l1, l2, q, force);
+    if (!s.stance[leg]) continue;
+    const auto tau = StanceTorques(c.values.at("thigh_m"), c.values.at("calf_m"), s.q[leg], force);
     out[12 + 3 * leg + 1] = tau[0];
     out[12 + 3 * leg + 2] = tau[1];
   }

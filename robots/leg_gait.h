@@ -23,6 +23,16 @@ std::array<double, 2> LegAngles(double thigh_m, double calf_m, double x, double 
 // (left-right phase, cycles), fh (front-rear phase, cycles).
 std::vector<Gene> LegGaitGenes(const Controller& c);
 double LegGaitPeriod(const std::vector<double>& genes);
+// Where the schedule puts each leg at t: on the ground or not, its thigh and calf angles
+// (the URDF's), and the twelve set-points (measured from the stand; hips 0).
+struct LegSchedule {
+  std::array<bool, 4> stance{};
+  int on_ground = 0;
+  std::array<std::array<double, 2>, 4> q{};
+  std::array<double, 12> commands{};
+};
+LegSchedule Schedule(const Controller& c, const std::vector<double>& genes, double t);
+
 // The controller's standard gravity (m/s^2): its own model of the robot's weight.
 inline constexpr double kStandardGravity = 9.80665;
 

@@ -3,8 +3,10 @@
 // folded it rests on its four castors at the paper's torso height, and they roll freely (on
 // a slope it accelerates at g sin s, as on ice); on them it slides forwards by paper 002's
 // paddling gait (leg_gait: left and right legs in phase, the front pair half a cycle after
-// the rear), straight and at most its commanded speed.
+// the rear), straight and at most its commanded speed; and it trots at paper 002's period
+// for 10 s, balanced by the stance controller (robots/leg_stance.h).
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -97,6 +99,33 @@ TEST_F(Go2Test, ItsCastorsRollFreely) {
   EXPECT_NEAR(a, -v("simulation.gravity_m_per_s2") * std::sin(s), 0.03 * 9.81 * std::sin(s));
 }
 
+// The channel `name` of a run.
+std::vector<double> Column(const calibration::SimRun& run, const std::string& name) {
+  const auto& tr = run.trajectory;
+  for (size_t c = 0; c < tr.channels.size(); ++c)
+    if (tr.channels[c] == name) return tr.columns[c];
+  ADD_FAILURE() << name;
+  return {};
+}
+
+TEST_F(Go2Test, ItTrotsAtThePapersPeriodForTenSeconds) {
+  ParamValues v(Go2());
+  // T 0.6 s, stance 0.5, lift 0.08 m (paper), 0.22 m/s; thigh joints 0.30 m over the feet,
+  // all the weight on the feet; diagonal pairs (lr 0.5, fh 0.5).
+  const auto run = SimulateChannels(Go2(), v, {0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5}, 16, 50);
+  ASSERT_TRUE(run.valid) << run.reason;
+  const auto x = Column(run, "torso.x"), z = Column(run, "torso.z");
+  const double t = run.trajectory.t.back() - run.trajectory.t.front();
+  ASSERT_GE(t, 9.5);
+  for (double zi : z) {  // up on its legs throughout: it never falls
+    EXPECT_GT(zi, 0.29);
+    EXPECT_LT(zi, 0.35);
+  }
+  const double speed = (x.back() - x.front()) / t;
+  EXPECT_GT(speed, 0.4 * 0.22);  // forwards, short of the commanded speed (docs/robots.md)
+  EXPECT_LT(speed, 1.05 * 0.22);
+}
+
 TEST_F(Go2Test, ItSlidesOnItsCastorsByPaddling) {
   ParamValues v(Go2());
   // Paper 002's slide at its slowest speed: T 0.8 s, stance 0.6, lift 0.03 m, 0.16 m/s; the
@@ -106,13 +135,7 @@ TEST_F(Go2Test, ItSlidesOnItsCastorsByPaddling) {
                                     0, {}, 1);
   ASSERT_TRUE(run.valid) << run.reason;
   const auto& tr = run.trajectory;
-  auto column = [&](const std::string& name) {
-    for (size_t c = 0; c < tr.channels.size(); ++c)
-      if (tr.channels[c] == name) return tr.columns[c];
-    ADD_FAILURE() << name;
-    return std::vector<double>{};
-  };
-  const auto x = column("torso.x"), y = column("torso.y"), z = column("torso.z");
+  const auto x = Column(run, "torso.x"), y = Column(run, "torso.y"), z = Column(run, "torso.z");
   const double speed = (x.back() - x.front()) / (tr.t.back() - tr.t.front());
   EXPECT_GT(speed, 0.5 * 0.16);
   EXPECT_LT(speed, 1.05 * 0.16);

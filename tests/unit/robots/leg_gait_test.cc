@@ -6,6 +6,7 @@
 
 #include "gtest/gtest.h"
 #include "robots/leg_gait.h"
+#include "robots/leg_stance.h"
 #include "robots/registry.h"
 
 namespace gaitforge::robots {
@@ -72,6 +73,57 @@ TEST(LegGait, TrotAndSlideArePhasePatternsWithTheWeightOnTheStanceFeet) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(slide[i], slide[3 + i], 1e-12);  // FR = FL
     EXPECT_NEAR(slide[6 + i], slide[9 + i], 1e-12);  // RR = RL
+  }
+}
+
+}  // namespace
+}  // namespace gaitforge::robots
+
+namespace gaitforge::robots {
+namespace {
+
+TEST(LegStance, TheLegsJacobianIsItsFootsDerivative) {
+  const std::array<double, 3> hip = {0.17, 0.0465, 0.005};
+  for (const std::array<double, 3> q : {std::array<double, 3>{0, 0.8, -1.5}, {0.2, 0.5, -1.9}}) {
+    const LegPoint p = LegKinematics(hip, 1, 0.0955, 0.213, 0.213, q);
+    for (int j = 0; j < 3; ++j) {
+      auto q2 = q;
+      q2[j] += 1e-7;
+      const LegPoint moved = LegKinematics(hip, 1, 0.0955, 0.213, 0.213, q2);
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR((moved.foot[k] - p.foot[k]) / 1e-7, p.jacobian[j][k], 1e-6) << j << " " << k;
+    }
+  }
+  // Unabducted, the foot lies in the leg's plane, offset outboard, where the planar legs put it.
+  const LegPoint stand = LegKinematics(hip, 1, 0.0955, 0.213, 0.213, {0, 0.8, -1.5});
+  EXPECT_NEAR(stand.foot[1], 0.0465 + 0.0955, 1e-12);
+  EXPECT_NEAR(stand.foot[2] - 0.005, -0.213 * (std::cos(0.8) + std::cos(0.7)), 1e-12);
+}
+
+TEST(LegStance, StanceForcesGiveTheAskedWrenchWithinTheCone) {
+  // Four feet around the centre, 0.2 m below: any modest wrench is met exactly (up to the
+  // regularisation), the weight shared evenly.
+  const std::vector<std::array<double, 3>> feet = {
+      {0.2, -0.15, -0.3}, {0.2, 0.15, -0.3}, {-0.2, -0.15, -0.3}, {-0.2, 0.15, -0.3}};
+  const std::array<double, 6> weight = {0, 0, 150, 0, 0, 0};
+  for (const auto& f : StanceForces(feet, weight, 0.6)) EXPECT_NEAR(f[2], 37.5, 1e-3);
+  const std::array<double, 6> push = {10, -5, 150, 3, -2, 1};
+  const auto forces = StanceForces(feet, push, 0.6);
+  std::array<double, 6> got{};
+  for (size_t i = 0; i < feet.size(); ++i) {
+    const auto& r = feet[i];
+    const auto& f = forces[i];
+    for (int k = 0; k < 3; ++k) got[k] += f[k];
+    got[3] += r[1] * f[2] - r[2] * f[1];
+    got[4] += r[2] * f[0] - r[0] * f[2];
+    got[5] += r[0] * f[1] - r[1] * f[0];
+  }
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(got[k], push[k], 0.01) << k;
+  // A sideways push beyond friction is cut to the cone's edge; the ground never pulls.
+  const auto slip = StanceForces(feet, {200, 0, 100, 0, 0, 0}, 0.6);
+  for (const auto& f : slip) {
+    EXPECT_GE(f[2], 0);
+    EXPECT_LE(std::hypot(f[0], f[1]), 0.6 * f[2] + 1e-9);
   }
 }
 

@@ -75,8 +75,9 @@ class DelayedCommands {
     whole_ = static_cast<int64_t>(std::floor(steps));
     frac_ = steps - static_cast<double>(whole_);
   }
-  std::vector<double> At(robots::ControllerRun& run, int64_t n, double offset, size_t count) const {
-    if (!on_off_) return run.At(std::max(0.0, static_cast<double>(n) * h_ - delay_) + offset);
+  std::vector<double> At(robots::ControllerRun& run, int64_t n, double offset, size_t count,
+                         const robots::BodyState* base = nullptr) const {
+    if (!on_off_) return run.At(std::max(0.0, static_cast<double>(n) * h_ - delay_) + offset, base);
     auto at_step = [&](int64_t k) {
       return k >= 0 ? run.At(static_cast<double>(k) * h_ + offset) : std::vector<double>(count, 0.0);
     };
@@ -111,8 +112,13 @@ bool Run(const robots::RobotDescriptor& d, const ParamValues& v, const std::vect
     auto delayed = std::make_shared<DelayedCommands>(
         *robots::FindControllerKind(d.controller.kind), v.Effect("effect.actuator_delay_s"),
         w.timestep());
+    // A feedback controller reads the base's state now (a delay shifts its schedule only).
     return [&, delayed](int64_t i, std::vector<double>& out) {
-      order.Place(delayed->At(controller, i, time_offset_s, d.controller.actuators.size()), out);
+      robots::BodyState base;
+      if (controller.feedback()) base = w.StateOf(0);
+      order.Place(delayed->At(controller, i, time_offset_s, d.controller.actuators.size(),
+                              controller.feedback() ? &base : nullptr),
+                  out);
     };
   };
   return RunWorld(d, v, timestep_s, engine, steps, each, source, reason, simulated_s);

@@ -328,6 +328,22 @@ std::array<double, 3> GenericWorld::BodyCentre(int body) const {
   return {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2};
 }
 
+robots::BodyState GenericWorld::StateOf(int body) const {
+  const dBodyID b = bodies_[built_[body].first];
+  robots::BodyState s;
+  s.position = BodyCentre(body);
+  const dReal* r = dBodyGetRotation(b);  // 3 x 4, row-major
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) s.rotation[3 * i + k] = r[4 * i + k];
+  const dReal* v = dBodyGetLinearVel(b);
+  const dReal* w = dBodyGetAngularVel(b);
+  for (int k = 0; k < 3; ++k) {
+    s.velocity[k] = v[k];
+    s.spin[k] = w[k];
+  }
+  return s;
+}
+
 double GenericWorld::JointAngle(int joint, int axis) const {
   if (joint_link_[joint] >= 0) return Bend(links_[joint_link_[joint]]);
   const dJointID j = joints_[joint];

@@ -115,6 +115,7 @@ class GenericWorld : public RobotWorld {
   absl::StatusOr<double> Channel(const std::string& name) const override;
   int ground_contacts() const override { return ground_contacts_; }
   std::array<double, 3> BodyCentre(int body) const override;
+  robots::BodyState StateOf(int body) const override;
   double last_piston_work() const override { return piston_work_; }
   const std::vector<double>& piston_extensions() const override { return piston_extensions_; }
   // The largest tilt of the first body (its roll or pitch against the world's level, rad)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "robots/controllers.h"
 #include "robots/descriptor.h"
 #include "workers/sim/sim_outcome.h"
 
@@ -39,6 +40,9 @@ class RobotWorld {
   virtual double total_mass() const = 0;
   // A descriptor body's centre (m, world frame; the mean of its halves when split).
   virtual std::array<double, 3> BodyCentre(int body) const = 0;
+  // A descriptor body's centre, rotation and velocities (its first half's when split), what
+  // a feedback controller reads of the base (robots::BodyState).
+  virtual robots::BodyState StateOf(int body) const = 0;
   // Ground contacts in the last step; -1 when the engine does not say.
   virtual int ground_contacts() const { return -1; }
   // Pistons (engines that build them): the work of their pushes in the last step (J; each

@@ -200,6 +200,20 @@ std::array<double, 3> MujocoWorld::BodyPosition(int i) const {
   return {p[0], p[1], p[2]};
 }
 
+robots::BodyState MujocoWorld::StateOf(int i) const {
+  const int id = body_ids_[i];
+  robots::BodyState s;
+  s.position = BodyPosition(i);
+  for (int k = 0; k < 9; ++k) s.rotation[k] = data_->xmat[9 * id + k];  // row-major
+  mjtNum vel[6];  // [angular; linear] at the body's frame, world-oriented
+  mj_objectVelocity(m_, data_, mjOBJ_BODY, id, vel, 0);
+  for (int k = 0; k < 3; ++k) {
+    s.spin[k] = vel[k];
+    s.velocity[k] = vel[3 + k];
+  }
+  return s;
+}
+
 std::array<double, 3> MujocoWorld::JointAnchor(int j) const {
   const int id = mj_name2id(m_, mjOBJ_JOINT, d_.joints[j].name.c_str());
   if (id < 0) return {NAN, NAN, NAN};  // a fixed joint has no MuJoCo joint

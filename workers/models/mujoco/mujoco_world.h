@@ -39,6 +39,7 @@ class MujocoWorld : public generic::RobotWorld {
   // Body i's (descriptor order) centre, world frame (m).
   std::array<double, 3> BodyPosition(int i) const;
   std::array<double, 3> BodyCentre(int i) const override { return BodyPosition(i); }
+  robots::BodyState StateOf(int i) const override;
   // The world position of joint j's (descriptor order) anchor as MuJoCo holds it (m).
   std::array<double, 3> JointAnchor(int j) const;
 
