@@ -179,8 +179,19 @@ std::string Details(const Struct& r, const std::string& dir) {
                     "  (no slice of the training residuals stands out beyond the model's numeric "
                     "spread on its own: the named effect shows in the calibration error, which "
                     "compares whole cycles)\n");
-  absl::StrAppend(&out, "  where the mismatch lives, by slice: ", dir,
-                  "/located.json and located.svg\n");
+  // Only what was written, as the report records it: locating fails on recordings it cannot
+  // slice (the report's `located` is then empty, and no located.svg is among its figures).
+  const bool json = Field(r, "located").struct_value().fields_size() > 0;
+  bool svg = false;
+  for (const auto& f : Field(r, "figures").list_value().values())
+    svg = svg || std::filesystem::path(f.string_value()).filename() == "located.svg";
+  if (json || svg)
+    absl::StrAppend(&out, "  where the mismatch lives, by slice: ", dir, "/",
+                    json && svg ? "located.json and located.svg" : json ? "located.json" : "located.svg",
+                    "\n");
+  else
+    absl::StrAppend(&out, "  where the mismatch lives: not located (locating wrote nothing for these recordings; "
+                    "the coordinator's log has its warning)\n");
   for (const auto& f : Field(r, "figures").list_value().values())
     if (std::filesystem::path(f.string_value()).filename() == "diagnosis.svg")
       absl::StrAppend(&out, "  held-out errors and overlays, before and after: ", dir,

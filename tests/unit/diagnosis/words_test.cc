@@ -25,6 +25,23 @@ const char* kFound = R"({"name": "hose", "robot": "caterpillar", "verdict": "fou
  "rule": {"margin": 10, "held_out_gain": 0.15, "paired_t": 2.015}, "dir": "out/d",
  "figures": ["out/d/located.svg", "out/d/diagnosis.svg"]})";
 
+// Locating can fail (recordings it cannot slice): the words then say so instead of
+// naming files that were never written.
+TEST(ReportWords, NamesTheLocatedFilesOnlyWhenTheyWereWritten) {
+  auto found = ReportWords(kFound);
+  ASSERT_TRUE(found.ok()) << found.status();
+  EXPECT_NE(found->find("by slice: out/d/located.json and located.svg"), std::string::npos) << *found;
+  std::string none = kFound;
+  none.replace(none.find(R"("located": {"summary": "The mismatch lives mainly in forward travel"})"),
+               std::string(R"("located": {"summary": "The mismatch lives mainly in forward travel"})").size(),
+               R"("located": {})");
+  none.replace(none.find(R"("out/d/located.svg", )"), std::string(R"("out/d/located.svg", )").size(), "");
+  auto w = ReportWords(none);
+  ASSERT_TRUE(w.ok()) << w.status();
+  EXPECT_EQ(w->find("located.json"), std::string::npos) << *w;
+  EXPECT_NE(w->find("where the mismatch lives: not located"), std::string::npos) << *w;
+}
+
 TEST(ReportWords, AFoundEffectWithItsMagnitudesInGeneOrderAndTheRunnersUp) {
   auto w = ReportWords(kFound);
   ASSERT_TRUE(w.ok()) << w.status();
