@@ -13,6 +13,7 @@
 #include "robots/registry.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/models/generic/generic_world.h"
+#include "workers/models/mujoco/mujoco_world.h"
 #include "workers/sim/ode_runtime.h"
 
 namespace gaitforge::generic {
@@ -142,6 +143,30 @@ TEST_F(Go2Test, ItSlidesOnItsCastorsByPaddling) {
   EXPECT_NEAR(y.back(), 0, 0.01);  // straight: its legs move in mirror pairs
   const double rest = v("castor.support_m") + 0.5 * v("base.height_m") - v("base.com_z_m");
   for (double zi : z) EXPECT_NEAR(zi, rest, 0.012);  // on its castors throughout
+}
+
+// The same descriptor built in MuJoCo (another contact law, integrator and actuator): the
+// trot and the slide go the same way at about the same speed.
+TEST_F(Go2Test, ItsMujocoBuildTrotsAndSlidesAlike) {
+  ParamValues v(Go2());
+  const WorldBuilder mujoco = [](const robots::RobotDescriptor& d, const ParamValues& values,
+                                 double h) -> absl::StatusOr<std::unique_ptr<RobotWorld>> {
+    auto w = mujoco::MujocoWorld::Build(d, values, h);
+    if (!w.ok()) return w.status();
+    return std::unique_ptr<RobotWorld>(std::move(*w));
+  };
+  for (const std::vector<double>& genes : {std::vector<double>{0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5},
+                                           std::vector<double>{0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5}}) {
+    double speed[2];
+    for (int k = 0; k < 2; ++k) {
+      const auto run = SimulateChannels(Go2(), v, genes, 8, 50, 0, k ? mujoco : WorldBuilder{}, 1);
+      ASSERT_TRUE(run.valid) << run.reason;
+      const auto x = Column(run, "torso.x");
+      speed[k] = (x.back() - x.front()) / (run.trajectory.t.back() - run.trajectory.t.front());
+    }
+    EXPECT_GT(speed[1], 0.05) << genes[0];
+    EXPECT_NEAR(speed[1], speed[0], 0.3 * speed[0]) << genes[0];
+  }
 }
 
 }  // namespace

@@ -61,6 +61,38 @@ TEST(MujocoWorld, SpheresRollAndSlideAsOnTheOdeBuild) {
   EXPECT_NEAR(-*(*w)->Channel("rolling_c.x"), 5.0 / 7.0 * slide, 0.02 * slide);
 }
 
+// A hinge's stops are radians in the descriptor, and MJCF reads angles in degrees unless
+// told otherwise: the build must keep them radians (a servo reaches 0.8 rad inside stops of
+// +-1 rad, and stops at 1 rad when sent past it; a 1 kg arm, as MuJoCo's stops are soft
+// in proportion to what they hold).
+TEST(MujocoWorld, JointStopsAreRadiansAsInTheDescriptor) {
+  const std::string text = std::string(R"(format: gaitforge.robot.v1
+name: stopped
+model: generic
+parameters:
+)") + testing::kSimulationParameters + R"(bodies:
+  - {name: base, shape: box, size: [0.1, 0.1, 0.1], mass: 5, position: [0, 0, 0.05]}
+  - {name: arm, shape: box, size: [0.1, 0.01, 0.01], mass: 1, position: [0.1, 0, 0.09]}
+joints:
+  - {name: hinge, type: hinge, bodies: [base, arm], anchor: [0.05, 0, 0.09], axis: [0, 0, 1], lo: -1, hi: 1}
+actuators:
+  - {name: servo, type: servo, joint: hinge, gain: 50, max_speed: 5, max_torque: 1, lag_s: 0}
+ground: {friction: 1, erp: 0.2, cfm: 1.0e-6}
+controller: {kind: sine, actuators: [servo], frequency_hz: [1, 2], amplitude_rad: [0, 1], offset_rad: [0, 1]}
+sensors:
+  - {kind: joint_angle, names: [hinge]}
+)";
+  auto d = robots::ParseDescriptor(text, "stopped.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  generic::ParamValues v(*d);
+  auto w = MujocoWorld::Build(*d, v, 0);
+  ASSERT_TRUE(w.ok()) << w.status();
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE((*w)->Step({0.8}).ok);
+  EXPECT_NEAR(*(*w)->Channel("hinge.angle"), 0.8, 0.02);
+  for (int i = 0; i < 1000; ++i) ASSERT_TRUE((*w)->Step({1.5}).ok);
+  EXPECT_NEAR(*(*w)->Channel("hinge.angle"), 1.0, 0.03);
+}
+
 // An arm on a sprung hinge out from a heavy base, and a servo-driven second arm.
 const std::string kArms = std::string(R"(format: gaitforge.robot.v1
 name: arms

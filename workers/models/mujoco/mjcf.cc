@@ -185,7 +185,9 @@ absl::StatusOr<std::string> ToMjcf(const robots::RobotDescriptor& d, const Param
   if (!tree.ok()) return tree.status();
   const double h = timestep_s > 0 ? timestep_s : v("simulation.timestep_s");
   Writer w{d, v, *tree, {}};
+  // Angles in radians, as the descriptor's: MJCF's default unit is the degree (stops, refs).
   w.out << "<mujoco model=\"" << d.name << "\">\n"
+        << "  <compiler angle=\"radian\"/>\n"
         << "  <option timestep=\"" << Num(h) << "\" integrator=\"implicit\" cone=\"elliptic\" impratio=\"10\" gravity=\"0 0 "
         << Num(-v("simulation.gravity_m_per_s2")) << "\"/>\n"
         << "  <worldbody>\n"
