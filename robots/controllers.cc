@@ -243,7 +243,8 @@ const std::vector<ControllerKind>& ControllerKinds() {
        {"thigh_m", "calf_m", "thigh_stand_rad", "calf_stand_rad", "mass_kg", "front_hip_x_m",
         "rear_hip_x_m", "hip_y_m", "hip_z_m", "hip_offset_m"},
        true,
-       &LegGaitFeedback},
+       &LegGaitFeedback,
+       &LegGaitCheck},
   };
   return kinds;
 }

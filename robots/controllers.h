@@ -61,6 +61,10 @@ struct ControllerKind {
   // state); without one it falls back to `commands`, its open-loop schedule.
   std::vector<double> (*feedback)(const Controller& c, const std::vector<double>& genes, double t,
                                   const BodyState& base) = nullptr;
+  // Why a genotype cannot run ("" when it can), beyond its period: an invalid evaluation
+  // with this reason rather than a gait the controller silently bends (leg_gait: a foot's
+  // path out of its leg's reach).
+  std::string (*check)(const Controller& c, const std::vector<double>& genes) = nullptr;
 };
 
 // The commands of one genotype over a run, asked in time order. A stateless kind is a

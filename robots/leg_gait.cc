@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/strings/str_format.h"
+
 namespace gaitforge::robots {
 
 std::array<double, 2> LegAngles(double thigh_m, double calf_m, double x, double z) {
@@ -34,6 +36,29 @@ std::vector<Gene> LegGaitGenes(const Controller& c) {
 }
 
 double LegGaitPeriod(const std::vector<double>& genes) { return genes[0]; }
+
+std::string LegGaitCheck(const Controller& c, const std::vector<double>& g) {
+  const double l1 = c.values.at("thigh_m"), l2 = c.values.at("calf_m");
+  const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
+  const double x0 = -l1 * std::sin(q1s) - l2 * std::sin(q1s + q2s);
+  const double stroke = g[3] * g[1] * g[0], height = g[4], lift = g[2];
+  const struct {
+    const char* where;
+    double x, z;
+  } points[] = {{"the stance stroke's front end", x0 + stroke / 2, -height},
+                {"the stance stroke's back end", x0 - stroke / 2, -height},
+                {"the swing's apex", x0, -height + lift}};
+  for (const auto& p : points) {
+    const double d = std::hypot(p.x, p.z);
+    if (d > l1 + l2 || d < std::fabs(l1 - l2))
+      return absl::StrFormat(
+          "leg_gait: the foot's path leaves the leg's reach: at %s (%.3g m ahead of and %.3g m "
+          "below the thigh joint) the foot is %.3g m from it, the leg reaches %.3g to %.3g m "
+          "(speed x stance x T sets the stroke, height and lift its depth)",
+          p.where, p.x, -p.z, d, std::fabs(l1 - l2), l1 + l2);
+  }
+  return "";
+}
 
 namespace {
 

@@ -5,6 +5,7 @@
 // and a cycloid swing forwards, and the leg's two-link inverse kinematics turns its path into
 // thigh and calf set-points. Trot and paper 002's slide are two phase patterns of it.
 #include <array>
+#include <string>
 #include <vector>
 
 #include "robots/descriptor.h"
@@ -23,6 +24,10 @@ std::array<double, 2> LegAngles(double thigh_m, double calf_m, double x, double 
 // (left-right phase, cycles), fh (front-rear phase, cycles).
 std::vector<Gene> LegGaitGenes(const Controller& c);
 double LegGaitPeriod(const std::vector<double>& genes);
+// Why the genes' foot path leaves a leg's reach ("" when it does not): a stance stroke's end
+// or the swing's apex farther from the thigh joint than thigh + calf, or nearer than their
+// difference.
+std::string LegGaitCheck(const Controller& c, const std::vector<double>& genes);
 // Where the schedule puts each leg at t: on the ground or not, its thigh and calf angles
 // (the URDF's), and the twelve set-points (measured from the stand; hips 0).
 struct LegSchedule {

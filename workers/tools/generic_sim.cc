@@ -80,7 +80,7 @@ absl::Status GenericTrajectory(const GenericRun& run, const std::vector<double>&
   const auto sim = generic::SimulateChannels(d, *values, genes, run.cycles, run.rate_hz, 0,
                                              run.engine == "mujoco" ? mujoco::Engine() : nullptr,
                                              run.settle_cycles);
-  if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
+  if (!sim.valid) return absl::AbortedError("the simulation failed: " + sim.reason);
   return WriteChannels(sim.trajectory, out, d.name, run.robot_path, genes,
                        run.engine == "mujoco" ? "simulated by gaitforge-sim, MuJoCo build"
                                               : "simulated by gaitforge-sim",
@@ -107,7 +107,7 @@ absl::Status GenericPlayback(const GenericRun& run, const std::string& inputs,
   sim::InitThread();
   auto sim = generic::SimulatePlayback(d, *values, *rec, offset, rec->t.back() + offset + 1e-9,
                                        run.rate_hz);
-  if (!sim.valid) return absl::AbortedError("the simulation diverged: " + sim.reason);
+  if (!sim.valid) return absl::AbortedError("the simulation failed: " + sim.reason);
   calibration::Trajectory& tr = sim.trajectory;
   for (const std::string& input : d.InputChannels()) {
     const int c = rec->ChannelIndex(input);

@@ -145,6 +145,15 @@ TEST_F(Go2Test, ItSlidesOnItsCastorsByPaddling) {
   for (double zi : z) EXPECT_NEAR(zi, rest, 0.012);  // on its castors throughout
 }
 
+// A gait out of the legs' reach is an invalid evaluation with the reason, not a run of
+// bent legs counted as travel.
+TEST_F(Go2Test, AGaitOutOfReachIsInvalidWithTheReason) {
+  ParamValues v(Go2());
+  const auto run = SimulateChannels(Go2(), v, {1.5, 0.8, 0.12, 0.5, 0.40, 1, 0.5, 0.5}, 1, 50);
+  EXPECT_FALSE(run.valid);
+  EXPECT_NE(run.reason.find("the foot's path leaves the leg's reach"), std::string::npos) << run.reason;
+}
+
 // The same descriptor built in MuJoCo (another contact law, integrator and actuator): the
 // trot and the slide go the same way at about the same speed.
 TEST_F(Go2Test, ItsMujocoBuildTrotsAndSlidesAlike) {

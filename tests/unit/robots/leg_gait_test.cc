@@ -2,6 +2,7 @@
 // stance torques that hold a foot's load, and the phase patterns of a trot and paper 002's
 // slide, on the Go2's controller section (robots/go2_castors/robot.yaml).
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -74,6 +75,16 @@ TEST(LegGait, TrotAndSlideArePhasePatternsWithTheWeightOnTheStanceFeet) {
     EXPECT_NEAR(slide[i], slide[3 + i], 1e-12);  // FR = FL
     EXPECT_NEAR(slide[6 + i], slide[9 + i], 1e-12);  // RR = RL
   }
+}
+
+// Bad input: a foot path beyond the leg's reach is refused with where and by how much,
+// not bent silently by the inverse kinematics.
+TEST(LegGait, AFootPathOutOfReachIsRefusedSayingWhere) {
+  const Controller& c = Robot("go2_castors").controller;
+  EXPECT_EQ(LegGaitCheck(c, {0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5}), "");
+  const std::string deep = LegGaitCheck(c, {1.5, 0.8, 0.12, 0.5, 0.40, 1, 0.5, 0.5});
+  EXPECT_NE(deep.find("at the stance stroke's front end"), std::string::npos) << deep;
+  EXPECT_NE(deep.find("the leg reaches 0 to 0.426 m"), std::string::npos) << deep;
 }
 
 }  // namespace

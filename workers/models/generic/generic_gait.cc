@@ -27,6 +27,8 @@ absl::StatusOr<std::vector<double>> Commands(const robots::RobotDescriptor& d,
             ? absl::StrCat("gait period T = ", period, " s is outside [", kind.min_period_s, ", ",
                            kind.max_period_s, "] s")
             : absl::StrCat("the genes give a gait period of ", period, " s"));
+  if (kind.check)
+    if (std::string why = kind.check(c, genes); !why.empty()) return absl::InvalidArgumentError(why);
   // Servos take set-point angles; pistons the fraction of their force (on/off: 1 or 0);
   // tendons a force, which no gait kind gives yet. Holding (all 0) suits every type.
   for (const std::string& name : kind.name == "hold" ? std::vector<std::string>{} : c.actuators)
