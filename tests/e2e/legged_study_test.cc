@@ -107,6 +107,31 @@ TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
   EXPECT_EQ(std::count(list_genes.begin(), list_genes.end(), ','), 7) << list_genes;
 }
 
+// Paper 002's trot on its Go2 (examples/go2-trot.yaml) on a small budget: the leg_gait
+// scheduler and its stance controller, closed on the base's state inside the workers, run
+// as a CMA-ES study end to end; the best gait travels forwards, upright.
+TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
+  TempDir dir;
+  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/go2-trot.yaml");
+  text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
+  text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 2");
+  text = std::regex_replace(text, std::regex(R"(cycles: \d+)"), "cycles: 3");
+  WriteFile(dir.File("spec.yaml"), text);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  auto r = RunCommand(cli + " local spec.yaml --workers 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("completed after 2 generations"));
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
+  auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
+  std::smatch best, tilt;
+  ASSERT_TRUE(std::regex_search(hof.out, best, std::regex(R"re("fitness":([-0-9.e]+))re"))) << hof.out;
+  ASSERT_TRUE(std::regex_search(hof.out, tilt, std::regex(R"re("max_tilt_rad":([-0-9.e]+))re"))) << hof.out;
+  EXPECT_GT(std::stod(best[1]), 0.02);  // m per 0.6 s cycle: it walks forwards
+  EXPECT_LT(std::stod(tilt[1]), 0.35);
+}
+
 // Paper 003's calibration (examples/tigrillo-calibration.yaml) on a small budget: its
 // knee-angle recordings upload, CMA-ES fits the seven parameters within their bounds, and
 // the report scores the fit before and after on training and held-out recordings and
