@@ -3,11 +3,13 @@
 // then Nelder-Mead, with its constraints; the result ignores the worker count; body genes
 // that are not the robot's parameters, or leave their ranges, are refused before anything
 // starts. Paper 003's CPG walk (examples/tigrillo-walk.yaml) by CMA-ES on its calibrated
-// model.
+// model; paper 002's trot (examples/go2-trot.yaml) through its stance controller.
 #include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -85,24 +87,35 @@ TEST(WalkerStudy, BodyGenesMustBeTheRobotsParametersInTheirRanges) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
 }
 
-TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
-  TempDir dir;
-  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/tigrillo-walk.yaml");
+// An example gait study run by `gaitforge local` with 4 members for 2 generations (and the
+// extra edits), in `dir`: its hall of fame as JSON.
+std::string SmallExampleHof(const TempDir& dir, const std::string& example,
+                            const std::vector<std::pair<std::string, std::string>>& edits = {}) {
+  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/" + example);
   text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
   text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 2");
+  for (const auto& [from, to] : edits) text = std::regex_replace(text, std::regex(from), to);
   WriteFile(dir.File("spec.yaml"), text);
   const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
   auto r = RunCommand(cli + " local spec.yaml --workers 2");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("completed after 2 generations"));
   auto list = RunCommand(cli + " list --json");
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
-  auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
-  EXPECT_THAT(hof.out, AllOf(HasSubstr("\"distance_per_cycle\":"), HasSubstr("\"max_tilt_rad\":")));
+  if (!std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) {
+    ADD_FAILURE() << list.out;
+    return "";
+  }
+  return RunCommand(cli + " hof " + m[1].str() + " --json").out;
+}
+
+TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
+  TempDir dir;
+  const std::string hof = SmallExampleHof(dir, "tigrillo-walk.yaml");
+  EXPECT_THAT(hof, AllOf(HasSubstr("\"distance_per_cycle\":"), HasSubstr("\"max_tilt_rad\":")));
   // The walk's left-right phase stays in its bounds; eight CPG genes.
   std::smatch genes;
-  ASSERT_TRUE(std::regex_search(hof.out, genes, std::regex(R"re("genes":\[([^\]]*)\])re")));
+  ASSERT_TRUE(std::regex_search(hof, genes, std::regex(R"re("genes":\[([^\]]*)\])re")));
   const std::string list_genes = genes[1];
   EXPECT_EQ(std::count(list_genes.begin(), list_genes.end(), ','), 7) << list_genes;
 }
@@ -112,22 +125,10 @@ TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
 // as a CMA-ES study end to end; the best gait travels forwards, upright.
 TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
   TempDir dir;
-  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/go2-trot.yaml");
-  text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
-  text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 2");
-  text = std::regex_replace(text, std::regex(R"(cycles: \d+)"), "cycles: 3");
-  WriteFile(dir.File("spec.yaml"), text);
-  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
-  auto r = RunCommand(cli + " local spec.yaml --workers 2");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("completed after 2 generations"));
-  auto list = RunCommand(cli + " list --json");
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re")));
-  auto hof = RunCommand(cli + " hof " + m[1].str() + " --json");
+  const std::string hof = SmallExampleHof(dir, "go2-trot.yaml", {{R"(cycles: \d+)", "cycles: 3"}});
   std::smatch best, tilt;
-  ASSERT_TRUE(std::regex_search(hof.out, best, std::regex(R"re("fitness":([-0-9.e]+))re"))) << hof.out;
-  ASSERT_TRUE(std::regex_search(hof.out, tilt, std::regex(R"re("max_tilt_rad":([-0-9.e]+))re"))) << hof.out;
+  ASSERT_TRUE(std::regex_search(hof, best, std::regex(R"re("fitness":([-0-9.e]+))re"))) << hof;
+  ASSERT_TRUE(std::regex_search(hof, tilt, std::regex(R"re("max_tilt_rad":([-0-9.e]+))re"))) << hof;
   EXPECT_GT(std::stod(best[1]), 0.02);  // m per 0.6 s cycle: it walks forwards
   EXPECT_LT(std::stod(tilt[1]), 0.35);
 }
