@@ -37,10 +37,19 @@ std::vector<Gene> LegGaitGenes(const Controller& c) {
 
 double LegGaitPeriod(const std::vector<double>& genes) { return genes[0]; }
 
+namespace {
+
+// The stand's foot, ahead of (+) or behind the thigh joint (m): the stroke's centre.
+double StandFootX(const Controller& c) {
+  const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
+  return -c.values.at("thigh_m") * std::sin(q1s) - c.values.at("calf_m") * std::sin(q1s + q2s);
+}
+
+}  // namespace
+
 std::string LegGaitCheck(const Controller& c, const std::vector<double>& g) {
   const double l1 = c.values.at("thigh_m"), l2 = c.values.at("calf_m");
-  const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
-  const double x0 = -l1 * std::sin(q1s) - l2 * std::sin(q1s + q2s);
+  const double x0 = StandFootX(c);
   const double stroke = g[3] * g[1] * g[0], height = g[4], lift = g[2];
   const struct {
     const char* where;
@@ -85,8 +94,7 @@ std::array<double, 2> StanceTorques(double l1, double l2, const std::array<doubl
 LegSchedule Schedule(const Controller& c, const std::vector<double>& g, double t) {
   const double l1 = c.values.at("thigh_m"), l2 = c.values.at("calf_m");
   const double q1s = c.values.at("thigh_stand_rad"), q2s = c.values.at("calf_stand_rad");
-  // The stand's foot, ahead of (+) or behind the thigh joint: the stroke's centre.
-  const double x0 = -l1 * std::sin(q1s) - l2 * std::sin(q1s + q2s);
+  const double x0 = StandFootX(c);
   const double period = g[0], stance = g[1], lift = g[2], speed = g[3], height = g[4];
   const double stroke = speed * stance * period;
   const double offset[4] = {0, g[6], g[7], g[7] + g[6]};  // FR, FL, RR, RL
