@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_format.h"
+#include "robots/leg_stance.h"
 
 namespace gaitforge::robots {
 
@@ -84,11 +85,9 @@ std::array<double, 2> FootPath(double p, double stance, double stroke, double li
 
 std::array<double, 2> StanceTorques(double l1, double l2, const std::array<double, 2>& q,
                                    double force) {
-  // tau = -J^T (0, F): the joint torques that hold the ground's push F up on the foot, J
-  // the foot's position (x = -l1 sin q1 - l2 sin(q1 + q2), z = -l1 cos q1 - l2 cos(q1 + q2))
-  // differentiated by the angles.
-  const double s1 = std::sin(q[0]), s12 = std::sin(q[0] + q[1]);
-  return {-force * (l1 * s1 + l2 * s12), -force * l2 * s12};
+  // tau = -J^T (0, 0, F): the leg's own Jacobian (robots/leg_stance.h), in its plane.
+  const LegPoint p = LegKinematics({0, 0, 0}, 0, 0, l1, l2, {0, q[0], q[1]});
+  return {-force * p.jacobian[1][2], -force * p.jacobian[2][2]};
 }
 
 LegSchedule Schedule(const Controller& c, const std::vector<double>& g, double t) {
