@@ -119,6 +119,8 @@ std::vector<std::string> RobotDescriptor::Channels() const {
     for (const auto& n : s.names) {
       if (s.kind == "marker") {
         for (const auto& axis : s.axes) out.push_back(absl::StrCat(n, ".", axis));
+      } else if (s.kind == "joint_torque" || s.kind == "joint_rate") {
+        out.push_back(absl::StrCat(n, s.kind == "joint_torque" ? ".torque" : ".rate"));
       } else if (const Joint* j = FindJoint(n); j != nullptr) {
         for (const auto& field : j->AngleFields()) out.push_back(absl::StrCat(n, ".", field));
       } else {

@@ -113,7 +113,7 @@ using Vec3Expr = std::array<Expr, 3>;
 
 // A sensor group, which becomes recording channels.
 struct Sensor {
-  std::string kind;                 // "marker" (a point's position) or "joint_angle"
+  std::string kind;                 // "marker" (a point's position), "joint_angle", "joint_torque" (a servo's torque) or "joint_rate" (its joint's rate)
   std::vector<std::string> names;   // markers rear to front, or joint names
   std::vector<std::string> axes;    // marker: a subset of x, y, z
   std::string spacing;              // marker: parameter with their rest spacing along x
@@ -227,6 +227,31 @@ struct Tracking {
   Mark mark;
 };
 
+// What the motors draw from the battery (`electrical:`; docs/robots.md, "Electrical"):
+// paper 002's cost of transport. Each motor type drives some servo actuators through a
+// gear; a joint's torque tau and rate w give the rotor's q-axis current i = tau / (gear kt)
+// and the electrical power tau w + 1.5 resistance i^2 (a three-phase motor, amplitude-
+// invariant currents). The bus adds the standby current's power; braking power (< 0) returns
+// to the battery times regen_efficiency.
+struct Electrical {
+  struct Motor {
+    std::vector<std::string> actuators;  // servo actuators it drives
+    Expr gear;        // rotor turns per joint turn (>= 1)
+    Expr kt;          // torque constant at the rotor (N m/A, > 0)
+    Expr resistance;  // winding resistance per phase (ohm, >= 0)
+  };
+  std::vector<Motor> motors;
+  Expr bus_voltage;       // V (> 0)
+  Expr standby_current;   // A (>= 0)
+  Expr regen_efficiency;  // 0..1
+  // A learned current model (a gaitforge.mlp.v1 file: inputs "<servo>.torque" and
+  // "<servo>.rate", output "bus.current" in A) that replaces the motors' model: the bus
+  // draws bus_voltage times its output. "": none. A file of the built-in robot of the
+  // descriptor's name (robots/<name>/), else a path beside the descriptor's file.
+  std::string current_model;
+  Mark mark;
+};
+
 // The report figure kinds a descriptor may offer (`figures:`; docs/robots.md):
 // paper_gait: gait diagrams, period sweep and travelling waves of the best gaits and the
 // best one's markers (paper 000's figures, drawn with gaitforge-sim's tools).
@@ -268,6 +293,7 @@ struct RobotDescriptor {
   // Bodies not joined by a joint touch each other (frictionless); off: they pass through.
   bool self_contact = false;
   std::optional<Tracking> tracking;  // none: the robot does not track paths
+  std::optional<Electrical> electrical;  // none: no electrical power or cost of transport
 
   const Parameter* FindParameter(std::string_view name) const;
   const Scale* FindScale(std::string_view name) const;

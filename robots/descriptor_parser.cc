@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "robots/controllers.h"
+#include "robots/electrical_parser.h"
 #include "robots/relations.h"
 #include "robots/structure_parser.h"
 #include "robots/tracking_parser.h"
@@ -217,8 +218,8 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
   Sensor s;
   auto kind = f.String(node["kind"], path + ".kind");
   if (!kind.ok()) return kind.status();
-  if (*kind != "marker" && *kind != "joint_angle")
-    return f.Error(node["kind"], path + ".kind", "must be marker or joint_angle");
+  if (*kind != "marker" && *kind != "joint_angle" && *kind != "joint_torque" && *kind != "joint_rate")
+    return f.Error(node["kind"], path + ".kind", "must be marker, joint_angle, joint_torque or joint_rate");
   s.kind = *kind;
   auto names = f.StringList(node["names"], path + ".names");
   if (!names.ok()) return names.status();
@@ -240,6 +241,12 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
     if (Status st = ParseMarkerBodies(f, node, path, d, s); !st.ok()) return st;
   } else if (node["axes"] || node["spacing"] || node["bodies"] || node["offset"]) {
     return f.Error(node, path, "axes, spacing, bodies and offset belong to markers");
+  } else if (s.kind != "joint_angle") {  // a servo's torque or its joint's rate
+    for (const auto& n : s.names)
+      if (std::none_of(d.actuators.begin(), d.actuators.end(),
+                       [&n](const Actuator& a) { return a.name == n && a.type == "servo"; }))
+        return f.Error(node["names"], path + ".names",
+                       absl::StrCat("no servo actuator named '", n, "' (", s.kind, " names servos)"));
   } else {
     for (const auto& n : s.names)
       if (const Joint* j = d.FindJoint(n); !d.joints.empty() && (j == nullptr || j->type == "fixed"))
@@ -320,7 +327,7 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
   if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "objectives", "parameters",
                                        "counts", "scales", "suspects", "relations", "controller", "sensors",
                                        "bodies", "joints", "actuators", "ground", "plane",
-                                       "self_contact", "tracking"});
+                                       "self_contact", "tracking", "electrical"});
       !s.ok())
     return s;
   RobotDescriptor d;
@@ -345,6 +352,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
     if (Status s = ParseSensors(f, root["sensors"], d); !s.ok()) return s;
   if (root["tracking"])
     if (Status s = ParseTracking(f, root["tracking"], d); !s.ok()) return s;
+  if (root["electrical"])
+    if (Status s = ParseElectrical(f, root["electrical"], d); !s.ok()) return s;
   if (Status s = d.CheckRelations([&d](const std::string& n) { return d.Value(n); }); !s.ok())
     return s;
   return d;

@@ -14,6 +14,7 @@ namespace gaitforge::robots {
 
 // builtin_robots.cc (generated).
 const std::vector<std::pair<std::string_view, std::string_view>>& BuiltinRobotTexts();
+const std::vector<std::pair<std::string_view, std::string_view>>& BuiltinRobotFiles();
 
 namespace {
 
@@ -45,6 +46,13 @@ const RobotDescriptor& Robot(std::string_view name) {
   if (const RobotDescriptor* r = FindRobot(name)) return *r;
   throw std::out_of_range(absl::StrCat("no built-in robot '", std::string(name), "' (known: ",
                                        absl::StrJoin(RobotNames(), ", "), ")"));
+}
+
+std::string_view BuiltinFile(std::string_view robot, std::string_view file) {
+  const std::string key = absl::StrCat(std::string(robot), "/", std::string(file));
+  for (const auto& [name, text] : BuiltinRobotFiles())
+    if (name == key) return text;
+  return {};
 }
 
 std::vector<std::string> RobotNames() {

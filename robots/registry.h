@@ -22,6 +22,9 @@ const RobotDescriptor& Robot(std::string_view name);
 std::vector<std::string> RobotNames();
 // A built-in descriptor's text as written in its file ("" when unknown).
 std::string_view BuiltinText(std::string_view name);
+// A file that ships with built-in robot `robot` (robots/<robot>/FILE, a learned model
+// *.mlp.json), embedded like its descriptor; "" when there is none.
+std::string_view BuiltinFile(std::string_view robot, std::string_view file);
 
 // The robot a study names: `text` parsed when given (a descriptor the spec carries; parsed
 // once per distinct text and kept, as its content determines it), else the built-in robot

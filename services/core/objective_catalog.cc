@@ -97,8 +97,10 @@ std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
        "(objective.robot; docs/robots.md), measured after settle_cycles from rest, or in "
        "duration_s from rest; genes: the robot's controller's, then any of its parameters "
        "(a body searched with its gait); metrics max_tilt_rad, torque_limited_fraction, "
-       "servo_energy_j and cost_of_transport for constraints; option fitness: "
-       "cost_of_transport makes the fitness -cost of transport",
+       "servo_energy_j and cost_of_transport for constraints (with the robot's electrical "
+       "section also electrical_energy_j, electrical_power_w and "
+       "electrical_cost_of_transport); option fitness: cost_of_transport or "
+       "electrical_cost_of_transport makes the fitness minus that cost of transport",
        {{"cycles", 1, 50, 2,
          "measured gait cycles (default: the robot's simulation.measured_cycles)", true},
         {"duration_s", 0, 600, 0,
@@ -113,8 +115,9 @@ std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
        {},
        0,
        // set: parameter overrides NAME=VALUE,... of the robot's descriptor; fitness: travel
-       // (the default) or cost_of_transport (fitness = -servo work / (weight x travel)).
-       {{"set", {}}, {"fitness", {"travel", "cost_of_transport"}}},
+       // (the default), cost_of_transport (fitness = -servo work / (weight x travel)) or
+       // electrical_cost_of_transport (-battery energy / (weight x travel)).
+       {{"set", {}}, {"fitness", {"travel", "cost_of_transport", "electrical_cost_of_transport"}}},
        false,
        "",
        false,

@@ -131,6 +131,12 @@ TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
   ASSERT_TRUE(std::regex_search(hof, tilt, std::regex(R"re("max_tilt_rad":([-0-9.e]+))re"))) << hof;
   EXPECT_GT(std::stod(best[1]), 0.02);  // m per 0.6 s cycle: it walks forwards
   EXPECT_LT(std::stod(tilt[1]), 0.35);
+  // Its battery's cost of transport (the descriptor's electrical section), stored with the
+  // gait: more than the 14 W standby over its 15.5 kg and at most 0.5 m/s.
+  std::smatch cot;
+  ASSERT_TRUE(std::regex_search(hof, cot, std::regex(R"re("electrical_cost_of_transport":([-0-9.e]+))re")))
+      << hof;
+  EXPECT_GT(std::stod(cot[1]), 14.4 / (15.5 * 9.81 * 0.5));
 }
 
 // Paper 003's calibration (examples/tigrillo-calibration.yaml) on a small budget: its

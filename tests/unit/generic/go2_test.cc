@@ -178,5 +178,30 @@ TEST_F(Go2Test, ItsMujocoBuildTrotsAndSlidesAlike) {
   }
 }
 
+// Paper 002's finding on the motors' model (robots/go2_castors/robot.yaml, `electrical:`):
+// sliding on the castors costs a fraction of trotting's electrical energy per metre at the
+// paper's slowest commanded speed, 0.16 m/s (measured: trot 6.19 at 77 W, slide 1.48 at
+// 31 W; the paper's 6.06-6.24 and 1.07-1.12); both draw more than the standby power.
+TEST_F(Go2Test, SlidingCostsLessBatteryEnergyPerMetreThanTrotting) {
+  ParamValues v(Go2());
+  GaitOptions o;
+  o.settle_cycles = 2;
+  o.measured_cycles = 6;
+  const GaitResult trot = EvaluateGait(Go2(), v, {0.6, 0.5, 0.08, 0.16, 0.30, 1, 0.5, 0.5}, o);
+  const GaitResult slide = EvaluateGait(Go2(), v, {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5}, o);
+  for (const GaitResult* g : {&trot, &slide}) {
+    ASSERT_TRUE(g->valid) << g->reason;
+    ASSERT_TRUE(g->electrical);
+    ASSERT_GT(g->travel_m, 0);
+  }
+  const double standby_w = v("power.bus_voltage_v") * v("power.standby_current_a");
+  const auto power = [](const GaitResult& g) { return g.electrical_energy_j / g.measured_s; };
+  const auto cot = [](const GaitResult& g) { return g.electrical_energy_j / (g.weight_n * g.travel_m); };
+  EXPECT_GT(power(slide), standby_w);
+  EXPECT_GT(power(trot), power(slide));
+  EXPECT_LT(cot(slide), 0.5 * cot(trot)) << "trot " << cot(trot) << " (" << power(trot) << " W), slide "
+                                          << cot(slide) << " (" << power(slide) << " W)";
+}
+
 }  // namespace
 }  // namespace gaitforge::generic

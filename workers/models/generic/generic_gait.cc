@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 
 #include "absl/strings/str_cat.h"
 #include "robots/controllers.h"
 #include "workers/models/generic/generic_run.h"
+#include "workers/models/generic/power_meter.h"
 
 namespace gaitforge::generic {
 
@@ -164,6 +166,12 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   double start_x = 0, end_x = 0, start_energy = 0;
   const int last_body = static_cast<int>(d.bodies.size()) - 1;
   bool contacts_known = true;
+  auto made = PowerMeter::For(d, v);
+  if (!made.ok()) {
+    r.reason = std::string(made.status().message());
+    return r;
+  }
+  const std::unique_ptr<PowerMeter> meter = std::move(*made);
   const auto steps = [&](const RobotWorld& w) {
     if (o.duration_s > 0) return total = std::llround(o.duration_s / w.timestep());
     const double period = kind->period_s(genes);
@@ -178,6 +186,7 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
       start_energy = w.servo_energy();
     }
     if (i > settle_steps) {  // the state after a measured step
+      if (meter) meter->Step(w.actuator_torques(), w.actuator_rates(), w.timestep());
       airborne += w.ground_contacts() == 0;
       r.piston_work_j += w.last_piston_work();
       contacts_known = contacts_known && w.ground_contacts() >= 0;
@@ -200,6 +209,11 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   const int64_t measured_steps = std::max<int64_t>(1, total - settle_steps);
   r.airborne_fraction = contacts_known ? static_cast<double>(airborne) / static_cast<double>(measured_steps) : -1;
   r.travel_m = end_x - start_x;
+  if (meter) {
+    r.electrical = true;
+    r.electrical_energy_j = meter->energy_j();
+    r.measured_s = meter->seconds();
+  }
   r.distance_per_cycle_m = r.travel_m / measured;
   return r;
 }

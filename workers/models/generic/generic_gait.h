@@ -34,6 +34,10 @@ struct GaitResult {
   double max_tilt_rad = 0;            // GenericWorld::max_tilt over the whole run
   double torque_limited_fraction = 0; // GenericWorld::torque_limited_fraction
   double servo_energy_j = 0;          // over the measured part (cycles or duration_s)
+  // A robot with an `electrical:` section (power_meter.h): the battery's energy over the
+  // measured part (J) and that part's length (s); electrical false: none.
+  bool electrical = false;
+  double electrical_energy_j = 0, measured_s = 0;
   double weight_n = 0;                // total mass times gravity
   // Over the measured part: the largest |angle| of the line from the first body's centre
   // to the last one's against the ground (rad), the share of steps without a ground contact

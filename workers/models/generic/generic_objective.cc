@@ -101,10 +101,19 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     r.metrics["max_stroke"] = g.max_stroke_m;
     r.metrics["actuator_energy"] = g.piston_work_j;
   }
-  // Cost of transport: work per weight and distance (dimensionless; paper 002's measure).
+  // Cost of transport: work per weight and distance (dimensionless; paper 002's measure),
+  // mechanical (the servos' positive work) and electrical (the battery's energy).
   const double work = g.servo_energy_j + g.piston_work_j;
   const double cot = g.travel_m > 0 ? work / (g.weight_n * g.travel_m) : NAN;
   if (g.travel_m > 0) r.metrics["cost_of_transport"] = cot;
+  const double electrical_cot = g.electrical && g.travel_m > 0
+                                    ? g.electrical_energy_j / (g.weight_n * g.travel_m)
+                                    : NAN;
+  if (g.electrical) {
+    r.metrics["electrical_energy_j"] = g.electrical_energy_j;
+    if (g.measured_s > 0) r.metrics["electrical_power_w"] = g.electrical_energy_j / g.measured_s;
+    if (g.travel_m > 0) r.metrics["electrical_cost_of_transport"] = electrical_cot;
+  }
   if (o.duration_s > 0) {
     r.fitness = g.travel_m;
     r.metrics["travel"] = g.travel_m;
@@ -112,12 +121,16 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     r.fitness = g.distance_per_cycle_m;
     r.metrics["distance_per_cycle"] = g.distance_per_cycle_m;
   }
-  if (auto it = in.options.find("fitness"); it != in.options.end() && it->second == "cost_of_transport") {
+  if (auto it = in.options.find("fitness"); it != in.options.end() && it->second != "travel") {
+    if (it->second == "electrical_cost_of_transport" && !g.electrical) {
+      r.reason = "electrical cost of transport: the robot has no electrical section (docs/robots.md)";
+      return r;
+    }
     if (!(g.travel_m > 0)) {
       r.reason = "cost of transport: the robot did not move forward";
       return r;
     }
-    r.fitness = -cot;
+    r.fitness = it->second == "cost_of_transport" ? -cot : -electrical_cot;
   }
   r.valid = true;
   return r;

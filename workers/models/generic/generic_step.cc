@@ -266,7 +266,10 @@ void GenericWorld::Observe() {
     if (servos_[i].pd) {  // its own torque, which turns the hinge's angle up
       const Servo& s = servos_[i];
       if (std::fabs(s.torque) >= 0.99 * s.max_torque) ++torque_limited_;
-      servo_energy_ += std::max(0.0, s.torque * dJointGetHingeAngleRate(joints_[s.joint])) * h_;
+      const double rate = dJointGetHingeAngleRate(joints_[s.joint]);
+      servo_energy_ += std::max(0.0, s.torque * rate) * h_;
+      actuator_torque_[s.actuator] = s.torque;
+      actuator_rate_[s.actuator] = rate;
       continue;
     }
     // The torque about the hinge axis that the joint put on its second body: the reaction's
@@ -291,6 +294,8 @@ void GenericWorld::Observe() {
     const dReal* w2 = dBodyGetAngularVel(dJointGetBody(j, 1));
     const double spin = (w2[0] - w1[0]) * axis[0] + (w2[1] - w1[1]) * axis[1] + (w2[2] - w1[2]) * axis[2];
     servo_energy_ += std::max(0.0, torque * spin) * h_;
+    actuator_torque_[servos_[i].actuator] = torque;
+    actuator_rate_[servos_[i].actuator] = spin;
   }
 }
 
@@ -369,6 +374,7 @@ absl::StatusOr<double> GenericWorld::Channel(const std::string& name) const {
     dBodyGetRelPointPos(bodies_[m.body], m.offset[0], m.offset[1], m.offset[2], out);
     return out[field[0] - 'x'];
   }
+  if (auto v = ActuatorChannel(d_, base, field)) return *v;
   return absl::NotFoundError(absl::StrCat(d_.name, " has no channel ", name));
 }
 

@@ -333,6 +333,8 @@ GenericWorld::Spring GenericWorld::SpringOf(const robots::Joint& j, const ParamV
 }
 
 absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
+  actuator_torque_.assign(d_.actuators.size(), 0.0);
+  actuator_rate_.assign(d_.actuators.size(), 0.0);
   for (size_t index = 0; index < d_.actuators.size(); ++index) {
     const robots::Actuator& a = d_.actuators[index];
     if (a.type == "piston") {

@@ -127,6 +127,8 @@ class GenericWorld : public RobotWorld {
   // The servos' positive mechanical work so far (J): the sum over steps and servos of
   // max(0, torque * joint rate) * h (a servo braking a joint stores nothing).
   double servo_energy() const override { return servo_energy_; }
+  const std::vector<double>& actuator_torques() const override { return actuator_torque_; }
+  const std::vector<double>& actuator_rates() const override { return actuator_rate_; }
   double total_mass() const override;
 
   // Inspection (tests, tools): the ODE bodies, rear half first where a body is split
@@ -330,6 +332,7 @@ class GenericWorld : public RobotWorld {
   double max_tilt_ = 0;
   int64_t torque_limited_ = 0;
   double servo_energy_ = 0;
+  std::vector<double> actuator_torque_, actuator_rate_;  // per actuator, the last step's
 };
 
 }  // namespace gaitforge::generic

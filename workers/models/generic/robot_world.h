@@ -7,6 +7,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,21 @@ class RobotWorld {
   virtual double torque_limited_fraction() const = 0;
   // The servos' positive mechanical work so far (J).
   virtual double servo_energy() const = 0;
+  // Per actuator (descriptor order), after the last step: the torque its servo put on the
+  // joint (N m, positive turning the joint's angle up) and the joint's rate (rad/s); 0 for
+  // pistons and tendons. Their product is the servo's mechanical power.
+  virtual const std::vector<double>& actuator_torques() const = 0;
+  virtual const std::vector<double>& actuator_rates() const = 0;
+  // The channel "<actuator>.torque" or "<actuator>.rate" of d's servo actuator `base`
+  // (joint_torque and joint_rate sensors) from the two above; nullopt for another name.
+  std::optional<double> ActuatorChannel(const robots::RobotDescriptor& d, const std::string& base,
+                                        const std::string& field) const {
+    if (field != "torque" && field != "rate") return std::nullopt;
+    for (size_t i = 0; i < d.actuators.size(); ++i)
+      if (d.actuators[i].name == base && d.actuators[i].type == "servo")
+        return field == "torque" ? actuator_torques()[i] : actuator_rates()[i];
+    return std::nullopt;
+  }
   virtual double total_mass() const = 0;
   // A descriptor body's centre (m, world frame; the mean of its halves when split).
   virtual std::array<double, 3> BodyCentre(int body) const = 0;

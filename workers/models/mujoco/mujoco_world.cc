@@ -86,6 +86,8 @@ absl::StatusOr<std::unique_ptr<MujocoWorld>> MujocoWorld::Build(const robots::Ro
     s.extra_keep = w->fx_.actuator_lag > 0 ? std::exp(-w->h_ / w->fx_.actuator_lag) : 0;
     w->servos_.push_back(s);
   }
+  w->actuator_torque_.assign(d.actuators.size(), 0.0);
+  w->actuator_rate_.assign(d.actuators.size(), 0.0);
   for (const robots::Sensor& s : d.sensors) {
     if (s.kind != "marker" || s.bodies.empty()) continue;  // as the ODE build
     for (size_t i = 0; i < s.names.size(); ++i) {
@@ -177,9 +179,11 @@ void MujocoWorld::Observe() {
   const double pitch = std::atan2(r[2], r[8]), roll = std::atan2(r[5], r[8]);
   max_tilt_ = std::max({max_tilt_, std::fabs(pitch), std::fabs(roll)});
   for (size_t i = 0; i < servos_.size(); ++i) {
-    const double torque = data_->actuator_force[i];
+    const double torque = data_->actuator_force[i], rate = data_->qvel[servos_[i].dof];
     if (std::fabs(torque) >= 0.99 * servos_[i].max_torque) ++torque_limited_;
-    servo_energy_ += std::max(0.0, torque * data_->qvel[servos_[i].dof]) * h_;
+    servo_energy_ += std::max(0.0, torque * rate) * h_;
+    actuator_torque_[i] = torque;
+    actuator_rate_[i] = rate;
   }
 }
 
@@ -251,6 +255,7 @@ absl::StatusOr<double> MujocoWorld::Channel(const std::string& name) const {
     return data_->xpos[3 * mk.body + k] + r[3 * k] * mk.offset[0] + r[3 * k + 1] * mk.offset[1] +
            r[3 * k + 2] * mk.offset[2];
   }
+  if (auto v = ActuatorChannel(d_, base, field)) return *v;
   return absl::NotFoundError(absl::StrCat(d_.name, " has no channel ", name));
 }
 

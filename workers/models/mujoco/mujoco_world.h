@@ -35,6 +35,8 @@ class MujocoWorld : public generic::RobotWorld {
   double max_tilt() const override { return max_tilt_; }
   double torque_limited_fraction() const override;
   double servo_energy() const override { return servo_energy_; }
+  const std::vector<double>& actuator_torques() const override { return actuator_torque_; }
+  const std::vector<double>& actuator_rates() const override { return actuator_rate_; }
   double total_mass() const override;
   // Body i's (descriptor order) centre, world frame (m).
   std::array<double, 3> BodyPosition(int i) const;
@@ -75,6 +77,7 @@ class MujocoWorld : public generic::RobotWorld {
   double max_speed_ = 0, max_excursion_ = 0;
   int64_t steps_ = 0, torque_limited_ = 0;
   double max_tilt_ = 0, servo_energy_ = 0;
+  std::vector<double> actuator_torque_, actuator_rate_;  // per actuator, the last step's
 };
 
 // The builder gait runs take (generic::GaitOptions::engine, SimulateChannels).
