@@ -5,6 +5,7 @@
 namespace gaitforge::engines {
 
 bool HallOfFame::Admits(const Evaluation& eval) const {
+  if (capacity_ <= 0) return false;  // a hall of no one (a sweep with top_k 0)
   if (static_cast<int>(entries_.size()) < capacity_) return true;
   // A later individual that only ties the last entry does not displace it.
   return Better(eval, entries_.back().eval);

@@ -8,6 +8,13 @@
 
 namespace gaitforge::engines::sweep {
 
+// A factor of a factorial design: genes that change together, level by level (paper 002's
+// gait: a trot's period, stance, lift, ... against a slide's).
+struct Factor {
+  std::vector<int> genes;                   // gene indexes, each in at most one factor
+  std::vector<std::vector<double>> levels;  // levels[l][k]: gene genes[k] at level l
+};
+
 struct SweepConfig {
   // Kept for a uniform engine configuration; the sweep draws no random numbers.
   uint64_t seed = 0;
@@ -17,7 +24,12 @@ struct SweepConfig {
   // gene with 1 point is held at the centre of its range during the grid. A circular gene
   // (Bounds::circular) takes lo + (hi - lo) j / p: its faces are one point.
   std::vector<int> points_per_axis = {5};
-  // Nelder-Mead searches started at the best top_k grid points (RanksBefore order).
+  // A factorial design: the grid is the product of every factor's levels (the first factor
+  // varying slowest) and of points_per_axis over the genes no factor sets (varying fastest);
+  // points_per_axis is ignored for a factor's genes. Empty: a plain grid.
+  std::vector<Factor> factors;
+  // Nelder-Mead searches started at the best top_k grid points (RanksBefore order); 0: none,
+  // the grid alone.
   int top_k = 3;
   // A search ends after nm_max_iterations iterations, or once every vertex of its simplex
   // lies within nm_tolerance of the best vertex in every gene (as a fraction of the range).
@@ -35,10 +47,11 @@ struct SweepConfig {
 // Checks a configuration; the message names the field and its allowed range.
 absl::Status ValidateSweepConfig(const SweepConfig& config);
 
-// points_per_axis expanded to one value per gene (config must be valid).
+// points_per_axis expanded to one value per gene, 1 for a factor's genes (config must be
+// valid).
 std::vector<int> PointsPerGene(const SweepConfig& config);
 
-// Number of grid points (the product of PointsPerGene).
+// Number of grid points (the product of PointsPerGene and of the factors' levels).
 int64_t GridSize(const SweepConfig& config);
 
 }  // namespace gaitforge::engines::sweep

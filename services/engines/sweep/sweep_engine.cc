@@ -25,7 +25,11 @@ absl::StatusOr<std::unique_ptr<SweepEngine>> SweepEngine::Create(const SweepConf
 std::vector<double> SweepEngine::GridPoint(int64_t index) const {
   const size_t n = points_.size();
   std::vector<double> x(n);
+  std::vector<bool> factored(n, false);
+  for (const Factor& f : config_.factors)
+    for (int g : f.genes) factored[g] = true;
   for (size_t k = n; k-- > 0;) {
+    if (factored[k]) continue;
     const double lo = config_.bounds.lo[k], hi = config_.bounds.hi[k];
     const int p = points_[k];
     const int64_t j = index % p;
@@ -34,6 +38,13 @@ std::vector<double> SweepEngine::GridPoint(int64_t index) const {
       x[k] = lo + (hi - lo) * j / p;
     else
       x[k] = p == 1 ? 0.5 * (lo + hi) : (j == p - 1 ? hi : lo + (hi - lo) * j / (p - 1));
+  }
+  for (size_t f = config_.factors.size(); f-- > 0;) {  // the first factor varies slowest
+    const Factor& factor = config_.factors[f];
+    const int64_t levels = static_cast<int64_t>(factor.levels.size());
+    const std::vector<double>& level = factor.levels[index % levels];
+    index /= levels;
+    for (size_t k = 0; k < factor.genes.size(); ++k) x[factor.genes[k]] = level[k];
   }
   return x;
 }
@@ -70,6 +81,7 @@ std::string SweepEngine::StopReason() const {
   if (over_budget_)
     return absl::StrCat("sweep: the next batch would pass max_evaluations = ",
                         config_.max_evaluations, " (", evaluations_, " done)");
+  if (config_.top_k == 0) return "sweep: the grid is done (top_k 0: no local searches)";
   return absl::StrCat("sweep: the grid is done and every Nelder-Mead search has converged "
                       "(nm_tolerance) or used nm_max_iterations");
 }
@@ -139,6 +151,13 @@ void WriteConfig(core::ByteWriter& w, const SweepConfig& c) {
   w.F64(c.nm_initial_step);
   w.U32(c.grid_batch);
   w.I64(c.max_evaluations);
+  if (c.factors.empty()) return;  // a plain grid's state as before factors existed
+  w.U32(static_cast<uint32_t>(c.factors.size()));
+  for (const Factor& f : c.factors) {
+    w.F64s(std::vector<double>(f.genes.begin(), f.genes.end()));
+    w.U32(static_cast<uint32_t>(f.levels.size()));
+    for (const auto& level : f.levels) w.F64s(level);
+  }
 }
 }  // namespace
 

@@ -68,6 +68,37 @@ TEST(SweepEngineTest, GridCoversFacesAndHoldsSingleAxesAtTheCentre) {
   EXPECT_EQ(grid[2].genes[0], 0.5);
 }
 
+// A factorial design (paper 002's experiment): a factor sets its genes together level by
+// level, factors multiply (the first slowest), the other genes take their grid points
+// (fastest), and with top_k 0 the grid is the whole study.
+TEST(SweepEngineTest, FactorsSetTheirGenesTogetherAndMultiply) {
+  SweepConfig c;
+  c.bounds = {{0, 0, 0, -1}, {1, 1, 10, 1}};
+  c.points_per_axis = {2};
+  c.factors = {{{0, 1}, {{0.2, 0.8}, {0.6, 0.1}}},  // "gait": genes 0 and 1 together
+               {{2}, {{1}, {2}, {3}}}};             // "speed"
+  c.top_k = 0;
+  auto e = Make(c);
+  const auto grid = e->Ask();
+  ASSERT_EQ(grid.size(), 12u);  // 2 gaits x 3 speeds x 2 points of gene 3
+  EXPECT_EQ(grid[0].genes, (std::vector<double>{0.2, 0.8, 1, -1}));
+  EXPECT_EQ(grid[1].genes, (std::vector<double>{0.2, 0.8, 1, 1}));
+  EXPECT_EQ(grid[2].genes, (std::vector<double>{0.2, 0.8, 2, -1}));
+  EXPECT_EQ(grid[6].genes, (std::vector<double>{0.6, 0.1, 1, -1}));
+  EXPECT_EQ(grid[11].genes, (std::vector<double>{0.6, 0.1, 3, 1}));
+  ASSERT_TRUE(e->Tell(Evaluate(grid, [](const std::vector<double>& x) { return x[2]; })).ok());
+  EXPECT_TRUE(e->Done());
+  EXPECT_EQ(e->StopReason(), "sweep: the grid is done (top_k 0: no local searches)");
+  // A level outside a gene's bounds, or a gene in two factors, is refused.
+  SweepConfig bad = c;
+  bad.factors[1].levels[2] = {11};
+  EXPECT_NE(ValidateSweepConfig(bad).message().find("sweep.factors[1]: level 2 puts gene 2 at 11"),
+            std::string::npos);
+  bad = c;
+  bad.factors[1].genes = {1};
+  EXPECT_NE(ValidateSweepConfig(bad).message().find("set by two factors"), std::string::npos);
+}
+
 // Nelder-Mead from the grid's best point on Rosenbrock in 2 and 3 dimensions. The grid
 // (8 points per axis on [-2, 2]) does not contain the optimum (1, ..., 1).
 TEST(SweepEngineTest, NelderMeadConvergesOnRosenbrockFromTheBestGridPoint) {
