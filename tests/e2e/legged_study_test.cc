@@ -87,6 +87,23 @@ TEST(WalkerStudy, BodyGenesMustBeTheRobotsParametersInTheirRanges) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
 }
 
+// Runs spec `text` with `gaitforge local` in dir on 2 workers; its stderr must hold
+// `expect`. Returns the study's id ("" and a failure if none).
+std::string RunLocal(const TempDir& dir, const std::string& text, const std::string& expect) {
+  WriteFile(dir.File("spec.yaml"), text);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  auto r = RunCommand(cli + " local spec.yaml --workers 2");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(expect));
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  if (!std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) {
+    ADD_FAILURE() << list.out;
+    return "";
+  }
+  return m[1].str();
+}
+
 // An example gait study run by `gaitforge local` with 4 members for 2 generations (and the
 // extra edits), in `dir`: its hall of fame as JSON.
 std::string SmallExampleHof(const TempDir& dir, const std::string& example,
@@ -95,18 +112,8 @@ std::string SmallExampleHof(const TempDir& dir, const std::string& example,
   text = std::regex_replace(text, std::regex(R"(population: \d+)"), "population: 4");
   text = std::regex_replace(text, std::regex(R"(generations: \d+)"), "generations: 2");
   for (const auto& [from, to] : edits) text = std::regex_replace(text, std::regex(from), to);
-  WriteFile(dir.File("spec.yaml"), text);
-  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
-  auto r = RunCommand(cli + " local spec.yaml --workers 2");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("completed after 2 generations"));
-  auto list = RunCommand(cli + " list --json");
-  std::smatch m;
-  if (!std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) {
-    ADD_FAILURE() << list.out;
-    return "";
-  }
-  return RunCommand(cli + " hof " + m[1].str() + " --json").out;
+  const std::string id = RunLocal(dir, text, "completed after 2 generations");
+  return RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " hof " + id + " --json").out;
 }
 
 TEST(TigrilloStudy, PaperThreesCpgWalkRunsByCmaesOnTheCalibratedModel) {
@@ -137,6 +144,32 @@ TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
   ASSERT_TRUE(std::regex_search(hof, cot, std::regex(R"re("electrical_cost_of_transport":([-0-9.e]+))re")))
       << hof;
   EXPECT_GT(std::stod(cot[1]), 14.4 / (15.5 * 9.81 * 0.5));
+}
+
+// Paper 002's experiment (examples/go2-experiment.yaml) with short runs: the factorial sweep
+// evaluates its 2 gaits x 4 speeds x 4 repeats once each, every run valid with its battery's
+// cost of transport, and sliding costs under half of trotting at the paper's 0.16 m/s.
+TEST(Go2Study, PaperTwosExperimentRunsEveryCellOfItsDesignOnce) {
+  TempDir dir;
+  std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/go2-experiment.yaml");
+  text = std::regex_replace(text, std::regex(R"(params: \{cycles: \d+, settle_cycles: \d+\})"),
+                            "params: {cycles: 2, settle_cycles: 1}");
+  const std::string id = RunLocal(dir, text, "32 evaluations");
+  ASSERT_FALSE(id.empty());
+  const std::string out = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " individuals " + id +
+                                     " --generation 0 --json").out;
+  // Per member: its genes (T first, speed fourth) and its cost of transport.
+  const std::regex member(R"re("genes":\[([0-9.]+),[0-9.]+,[0-9.]+,([0-9.]+),[^\]]*\],"evaluation":\{"valid":true.*?"electrical_cost_of_transport":([0-9.e]+))re");
+  double trot = 0, slide = 0;
+  int n = 0, slow = 0;
+  for (auto it = std::sregex_iterator(out.begin(), out.end(), member); it != std::sregex_iterator(); ++it, ++n) {
+    if (std::stod((*it)[2]) != 0.16) continue;
+    ++slow;
+    (std::stod((*it)[1]) == 0.6 ? trot : slide) += std::stod((*it)[3]) / 4;
+  }
+  EXPECT_EQ(n, 32) << out.substr(0, 2000);
+  EXPECT_EQ(slow, 8);
+  EXPECT_LT(slide, 0.5 * trot) << "trot " << trot << ", slide " << slide;
 }
 
 // Paper 003's calibration (examples/tigrillo-calibration.yaml) on a small budget: its

@@ -178,10 +178,11 @@ TEST_F(Go2Test, ItsMujocoBuildTrotsAndSlidesAlike) {
   }
 }
 
-// Paper 002's finding on the motors' model (robots/go2_castors/robot.yaml, `electrical:`):
-// sliding on the castors costs a fraction of trotting's electrical energy per metre at the
-// paper's slowest commanded speed, 0.16 m/s (measured: trot 6.19 at 77 W, slide 1.48 at
-// 31 W; the paper's 6.06-6.24 and 1.07-1.12); both draw more than the standby power.
+// Paper 002's finding on the battery (robots/go2_castors/robot.yaml, `electrical:`, its
+// learned current model): sliding on the castors costs a fraction of trotting's electrical
+// energy per metre at the paper's slowest commanded speed, 0.16 m/s (20 cycles, README.md:
+// trot 6.5-6.9, slide 1.5-1.6; the paper's 6.06-6.24 and 1.07-1.12); both draw more than
+// the standby power.
 TEST_F(Go2Test, SlidingCostsLessBatteryEnergyPerMetreThanTrotting) {
   ParamValues v(Go2());
   GaitOptions o;

@@ -190,7 +190,8 @@ TEST(SpecLoader, ADirectoryGivenAsASpecSaysSo) {
 TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
   for (const char* f : {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml",
                         "examples/analytic-cmaes.yaml", "examples/analytic-sweep.yaml",
-                        "examples/robot-ga.yaml", "examples/caterpillar-robust.yaml"}) {
+                        "examples/robot-ga.yaml", "examples/caterpillar-robust.yaml",
+                        "examples/go2-experiment.yaml"}) {
     auto loaded = LoadSpecFile(std::string(GAITFORGE_SOURCE_DIR) + "/" + f);
     ASSERT_TRUE(loaded.ok()) << loaded.status();
     ApplyDefaults(&loaded->spec);
