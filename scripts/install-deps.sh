@@ -11,7 +11,7 @@ PACKAGES=(
   # An independent build of the generic robots (workers/models/mujoco, issue 27).
   libmujoco-dev
   iproute2 nftables
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-scipy python3-statsmodels
   python3-grpcio python3-protobuf python3-yaml python3-pandas
   # The dashboard's browser test (tests/dashboard): headless Chromium driven by Selenium.
   chromium chromium-driver python3-selenium

@@ -36,31 +36,22 @@ bool WriteSweepData(v1::StudyService::Stub& stub, const v1::StudySummary& study,
         << spec.sweep().points_per_axis(spec.sweep().points_per_axis_size() == 1 ? 0 : i) << "]";
   out << "], \"members\": [";
   bool first = true;
-  for (int gen = 0; gen < study.generations_done(); ++gen) {
-    grpc::ClientContext ctx;
-    SetDeadline(ctx, g.timeout_s);
-    v1::ListIndividualsRequest req;
-    req.set_study_id(study.study_id());
-    req.set_generation(gen);
-    v1::ListIndividualsResponse resp;
-    if (!stub.ListIndividuals(&ctx, req, &resp).ok()) return false;
-    for (const auto& m : resp.individuals()) {
-      if (m.carried()) continue;
-      out << (first ? "" : ", ") << "[" << gen << ", ";
-      first = false;
-      if (m.evaluation().valid()) out << absl::StrFormat("%.17g", m.evaluation().fitness());
-      else out << "null";
-      out << ", " << absl::StrFormat("%.17g", m.violation());
-      for (double x : m.genes()) out << ", " << absl::StrFormat("%.17g", x);
-      out << "]";
-    }
-  }
+  const bool listed = ForEachMember(stub, study, g, [&](int gen, const v1::Individual& m) {
+    out << (first ? "" : ", ") << "[" << gen << ", ";
+    first = false;
+    if (m.evaluation().valid()) out << absl::StrFormat("%.17g", m.evaluation().fitness());
+    else out << "null";
+    out << ", " << absl::StrFormat("%.17g", m.violation());
+    for (double x : m.genes()) out << ", " << absl::StrFormat("%.17g", x);
+    out << "]";
+  });
   out << "]}\n";
-  return static_cast<bool>(out);
+  return listed && static_cast<bool>(out);
 }
 
 // A sweep study's heat map of its grid and its Nelder-Mead searches' path (paper 001's
-// figures): ID-sweep.svg beside the fitness curve. Nothing for another engine.
+// figures): ID-sweep.svg beside the fitness curve; a factorial design's statistics
+// (PlotFactorial). Nothing for another engine.
 int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
               const GlobalOptions& g, std::vector<std::string>* written) {
   grpc::ClientContext ctx;
@@ -70,6 +61,8 @@ int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::st
   v1::StudySummary study;
   if (grpc::Status s = stub.GetStudy(&ctx, req, &study); !s.ok()) return ReportRpcError(s, "plot " + id);
   if (study.spec().engine() != "sweep" || study.spec().bounds_size() < 1) return kOk;
+  // A factorial design is no grid over genes: its statistics and box plot instead.
+  if (study.spec().sweep().factors_size() > 0) return PlotFactorial(stub, study, out_dir, g, written);
   const std::string json = out_dir + "/" + id + "-sweep.json";
   const std::string svg = out_dir + "/" + id + "-sweep.svg";
   if (!WriteSweepData(stub, study, g, json) ||
@@ -85,6 +78,22 @@ int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::st
 }  // namespace
 
 std::string PlotScriptPath() { return PlotScript(); }
+
+bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study, const GlobalOptions& g,
+                   const std::function<void(int, const v1::Individual&)>& fn) {
+  for (int gen = 0; gen < study.generations_done(); ++gen) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::ListIndividualsRequest req;
+    req.set_study_id(study.study_id());
+    req.set_generation(gen);
+    v1::ListIndividualsResponse resp;
+    if (!stub.ListIndividuals(&ctx, req, &resp).ok()) return false;
+    for (const auto& m : resp.individuals())
+      if (!m.carried()) fn(gen, m);
+  }
+  return true;
+}
 
 int RunPlotScript(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {Python(), PlotScript()};

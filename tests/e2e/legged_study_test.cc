@@ -148,7 +148,8 @@ TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
 
 // Paper 002's experiment (examples/go2-experiment.yaml) with short runs: the factorial sweep
 // evaluates its 2 gaits x 4 speeds x 4 repeats once each, every run valid with its battery's
-// cost of transport, and sliding costs under half of trotting at the paper's 0.16 m/s.
+// cost of transport, sliding costs under half of trotting at the paper's 0.16 m/s, and the
+// statistics report (Welch per speed, two-way ANOVA, box plot) comes with the study.
 TEST(Go2Study, PaperTwosExperimentRunsEveryCellOfItsDesignOnce) {
   TempDir dir;
   std::string text = ReadFile(std::string(GAITFORGE_SOURCE_DIR) + "/examples/go2-experiment.yaml");
@@ -170,6 +171,16 @@ TEST(Go2Study, PaperTwosExperimentRunsEveryCellOfItsDesignOnce) {
   EXPECT_EQ(n, 32) << out.substr(0, 2000);
   EXPECT_EQ(slow, 8);
   EXPECT_LT(slide, 0.5 * trot) << "trot " << trot << ", slide " << slide;
+  // The study's statistics, drawn when it ended: Welch's test per speed, the two-way ANOVA,
+  // the box plot (clients/python/gaitforge_factorial.py).
+  const std::string stats = ReadFile(dir.File("runs/plots/" + id + "-factorial.json"));
+  EXPECT_THAT(stats, HasSubstr("\"metric\": \"electrical_cost_of_transport\""));
+  std::smatch welch, gait;
+  ASSERT_TRUE(std::regex_search(stats, welch, std::regex(R"re("level": "0.16",[^}]*"p": ([-0-9.e]+))re"))) << stats;
+  EXPECT_LT(std::stod(welch[1]), 0.01);  // trot and slide differ at 0.16 m/s
+  ASSERT_TRUE(std::regex_search(stats, gait, std::regex(R"re("source": "gait",[^}]*"p": ([-0-9.e]+))re"))) << stats;
+  EXPECT_LT(std::stod(gait[1]), 0.001);
+  EXPECT_GT(ReadFile(dir.File("runs/plots/" + id + "-factorial.svg")).size(), 1000u);
 }
 
 // Paper 003's calibration (examples/tigrillo-calibration.yaml) on a small budget: its

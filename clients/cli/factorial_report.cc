@@ -1,0 +1,105 @@
+// A factorial sweep's statistics (sweep.factors; docs/engines.md, "Factorial designs"): the
+// design and every member as JSON, then clients/python/gaitforge_factorial.py (scipy's
+// Welch test, statsmodels' two-way ANOVA, matplotlib's box plot).
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "clients/cli/cli.h"
+#include "services/core/subprocess.h"
+
+namespace gaitforge::cli {
+namespace {
+
+// The response: the metric the objective's fitness option names, else the fitness.
+std::string Response(const v1::StudySpec& spec) {
+  const auto& options = spec.objective().options();
+  if (auto it = options.find("fitness"); it != options.end() && it->second != "travel") return it->second;
+  return "fitness";
+}
+
+int GeneIndex(const v1::StudySpec& spec, const std::string& name) {
+  for (int i = 0; i < spec.bounds_size(); ++i)
+    if (spec.bounds(i).name() == name) return i;
+  return -1;
+}
+
+void WriteDesign(const v1::StudySpec& spec, std::ostream& out) {
+  out << "{\"factors\": [";
+  for (int f = 0; f < spec.sweep().factors_size(); ++f) {
+    const v1::SweepFactor& factor = spec.sweep().factors(f);
+    const int levels = factor.genes_size() > 0 ? factor.genes(0).values_size() : 0;
+    out << (f ? ", " : "") << "{\"name\": \"" << (factor.name().empty() ? absl::StrCat("factor", f + 1) : factor.name())
+        << "\", \"levels\": [";
+    for (int l = 0; l < levels; ++l)
+      out << (l ? ", " : "") << "\""
+          << (factor.levels_size() == levels ? factor.levels(l) : absl::StrCat(l + 1)) << "\"";
+    out << "], \"genes\": [";
+    for (int k = 0; k < factor.genes_size(); ++k)
+      out << (k ? ", " : "") << GeneIndex(spec, factor.genes(k).gene());
+    out << "], \"values\": [";
+    for (int k = 0; k < factor.genes_size(); ++k) {
+      out << (k ? ", " : "") << "[";
+      for (int l = 0; l < factor.genes(k).values_size(); ++l)
+        out << (l ? ", " : "") << absl::StrFormat("%.17g", factor.genes(k).values(l));
+      out << "]";
+    }
+    out << "]}";
+  }
+  out << "], \"members\": [";
+}
+
+bool WriteMembers(v1::StudyService::Stub& stub, const v1::StudySummary& study, const GlobalOptions& g,
+                  std::ostream& out) {
+  bool first = true;
+  const bool listed = ForEachMember(stub, study, g, [&](int, const v1::Individual& m) {
+    out << (first ? "" : ", ") << "{\"genes\": [";
+    first = false;
+    for (int i = 0; i < m.genes_size(); ++i) out << (i ? ", " : "") << absl::StrFormat("%.17g", m.genes(i));
+    out << "], \"valid\": " << (m.evaluation().valid() ? "true" : "false")
+        << ", \"fitness\": " << absl::StrFormat("%.17g", m.evaluation().fitness()) << ", \"metrics\": {";
+    bool first_metric = true;
+    for (const auto& [name, v] : m.evaluation().metrics()) {
+      if (!std::isfinite(v)) continue;
+      out << (first_metric ? "" : ", ") << "\"" << name << "\": " << absl::StrFormat("%.17g", v);
+      first_metric = false;
+    }
+    out << "}}";
+  });
+  out << "]}\n";
+  return listed;
+}
+
+}  // namespace
+
+int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study, const std::string& out_dir,
+                  const GlobalOptions& g, std::vector<std::string>* written) {
+  const v1::StudySpec& spec = study.spec();
+  if (spec.sweep().factors_size() < 2) return kOk;
+  const std::string prefix = out_dir + "/" + study.study_id() + "-factorial";
+  std::ostringstream data;
+  WriteDesign(spec, data);
+  if (!WriteMembers(stub, study, g, data)) {
+    std::cerr << "gaitforge: the factorial statistics could not list the study's members\n";
+    return kFailed;
+  }
+  std::ofstream(prefix + "-data.json") << data.str();
+  const std::vector<std::string> argv = {core::Python(), core::PythonScript("gaitforge_factorial.py"),
+                                         "--data", prefix + "-data.json", "--metric", Response(spec),
+                                         "--out-prefix", prefix, "--title", study.study_id()};
+  std::string ignored;
+  if (core::RunCapture(argv, &ignored) != 0) {
+    std::cerr << "gaitforge: the factorial statistics failed (needs " << core::Python()
+              << " with python3-scipy, python3-statsmodels and python3-matplotlib)\n";
+    return kFailed;
+  }
+  std::ifstream summary(prefix + ".txt");
+  std::cerr << summary.rdbuf();
+  for (const char* ext : {".json", ".txt", ".svg"}) written->push_back(prefix + ext);
+  return kOk;
+}
+
+}  // namespace gaitforge::cli
