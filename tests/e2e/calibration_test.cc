@@ -81,7 +81,7 @@ cmaes:
   mean0: [8.8, 1.0]
   sigma0: 0.25
   restarts: none
-  max_evaluations: 800
+  max_evaluations: 480
 )");
   auto run = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
                         " local calib.yaml --workers 2 --json");
