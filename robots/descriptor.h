@@ -155,6 +155,8 @@ struct Joint {
   std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad (about axis)
   std::optional<Expr> stiffness2, damping2, rest2;  // universal: about axis2
   std::optional<Expr> lo, hi;   // stops, rad (hinge only)
+  std::optional<Expr> friction; // Coulomb friction torque, N m (hinge only): up to this much
+                                // opposes the joint's turning, and holds it below that
   // spring_link: the axial spring (N/m) runs from body1's point at anchor - length * axis
   // to body2's point at the anchor (length in m); `stiffness` is the bending spring, and
   // both dampers are fractions of critical damping for the two bodies (axial_damping_ratio,
@@ -249,6 +251,9 @@ struct Electrical {
   // draws bus_voltage times its output. "": none. A file of the built-in robot of the
   // descriptor's name (robots/<name>/), else a path beside the descriptor's file.
   std::string current_model;
+  // The rate of the recordings it learned from (Hz, > 0): the meter asks it for the current
+  // that often in simulated time and holds the answer between (paper 002: 500 Hz).
+  Expr current_model_rate_hz;
   Mark mark;
 };
 

@@ -63,7 +63,7 @@ Status ParseElectrical(const YamlFields& f, const YAML::Node& node, RobotDescrip
   if (!node.IsMap()) return f.Error(node, "electrical", "expected a mapping");
   if (Status s = f.CheckMap(node, "electrical",
                             {"bus_voltage", "standby_current", "regen_efficiency", "motors",
-                             "current_model"});
+                             "current_model", "current_model_rate_hz"});
       !s.ok())
     return s;
   Electrical e;
@@ -82,6 +82,14 @@ Status ParseElectrical(const YamlFields& f, const YAML::Node& node, RobotDescrip
       return f.Error(node["current_model"], "electrical.current_model",
                      "must name a file beside the descriptor (a gaitforge.mlp.v1 file)");
     e.current_model = *file;
+    if (Status s = ReadNumbers(f, node, "electrical", d,
+                               {{"current_model_rate_hz", &e.current_model_rate_hz, 0, 1e6, true,
+                                 "> 0 (Hz: the rate of the recordings the model learned from)"}});
+        !s.ok())
+      return s;
+  } else if (node["current_model_rate_hz"]) {
+    return f.Error(node["current_model_rate_hz"], "electrical.current_model_rate_hz",
+                   "belongs to a current_model");
   }
   const YAML::Node motors = node["motors"];
   if (!motors || !motors.IsSequence() || motors.size() == 0)

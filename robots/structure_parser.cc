@@ -211,7 +211,7 @@ Status ParseSpringLink(const YamlFields& f, const YAML::Node& n, const std::stri
 Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& path,
                   RobotDescriptor& d) {
   if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "axis2",
-                                      "stiffness", "damping", "rest", "lo", "hi", "length",
+                                      "stiffness", "damping", "rest", "lo", "hi", "friction", "length",
                                       "axial_stiffness", "axial_damping_ratio", "damping_ratio"});
       !s.ok())
     return s;
@@ -242,6 +242,8 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
   }
   if (Status s = ReadVec(f, n["anchor"], path + ".anchor", d, j.anchor); !s.ok()) return s;
   if (Status s = ParseAxis(f, n["axis"], path + ".axis", j.axis); !s.ok()) return s;
+  if (j.type != "hinge" && n["friction"])
+    return f.Error(n["friction"], path + ".friction", "only a hinge has friction");
   if (j.type == "universal") {
     if (Status s = ParseUniversal(f, n, path, d, j); !s.ok()) return s;
     d.joints.push_back(std::move(j));
@@ -257,7 +259,7 @@ Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& p
   if (n["axis2"]) return f.Error(n["axis2"], path + ".axis2", "only a universal joint has axis2");
   for (auto [key, out] : {std::pair{"stiffness", &j.stiffness}, std::pair{"damping", &j.damping},
                           std::pair{"rest", &j.rest}, std::pair{"lo", &j.lo},
-                          std::pair{"hi", &j.hi}}) {
+                          std::pair{"hi", &j.hi}, std::pair{"friction", &j.friction}}) {
     if (Status s = ReadOptional(f, n, key, path, d, *out); !s.ok()) return s;
   }
   if (j.lo.has_value() != j.hi.has_value())

@@ -3,6 +3,7 @@
 // braking bus returned. Checked by hand on numbers, then on an arm a PD servo holds out
 // against gravity (the holding torque costs copper loss only), on both engines.
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "gtest/gtest.h"
@@ -117,6 +118,38 @@ TEST_F(PowerMeterTest, AGaitReportsTheBatterysEnergyOverItsMeasuredCycles) {
   ASSERT_TRUE(v.Set("motor.resistance_ohm", 2.0).ok());
   const GaitResult dear = EvaluateGait(d, v, {1.0, 0.8, 0.0, 0.0}, o);
   EXPECT_GT(dear.electrical_energy_j, g.electrical_energy_j + 0.1) << dear.electrical_energy_j;
+}
+
+// A learned current model is asked at the rate of its recordings and held between: here a
+// network whose current is the servo's torque (one linear layer), asked at 100 Hz while the
+// world steps at 1 kHz, integrates the torque sampled every tenth step.
+TEST_F(PowerMeterTest, ALearnedModelIsAskedAtItsRecordingsRate) {
+  const std::string dir = ::testing::TempDir();
+  std::ofstream(dir + "/linear.mlp.json")
+      << R"({"format": "gaitforge.mlp.v1", "inputs": ["motor.torque"], "outputs": ["bus.current"],
+ "activation": "relu", "input_mean": [0], "input_sd": [1], "output_mean": [0], "output_sd": [1],
+ "layers": [{"weights": [[1]], "bias": [0]}]})";
+  std::string text = ArmText("0");
+  text.replace(text.find("  motors:"), 0, "  current_model: linear.mlp.json\n  current_model_rate_hz: 100\n");
+  auto d = robots::ParseDescriptor(text, dir + "/geared_arm.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  ParamValues v(*d);
+  auto meter = *PowerMeter::For(*d, v);
+  ASSERT_TRUE(meter->learned());
+  double expected = 0;
+  for (int i = 0; i < 100; ++i) {  // 0.1 s of a torque ramp at 1 ms steps
+    const double torque = 0.01 * i;
+    meter->Step({torque}, {0.0}, 0.001);
+    expected += 24 * 0.01 * (i - i % 10) * 0.001;  // the torque of the last tenth step
+  }
+  EXPECT_NEAR(meter->energy_j(), expected, 1e-12);
+  EXPECT_DOUBLE_EQ(meter->Power({0.5}, {0.0}), 24 * 0.5);
+  // A rate without a model is refused.
+  text.replace(text.find("  current_model: linear.mlp.json\n"), 33, "");
+  auto orphan = robots::ParseDescriptor(text, dir + "/geared_arm.yaml");
+  ASSERT_FALSE(orphan.ok());
+  EXPECT_NE(orphan.status().message().find("electrical.current_model_rate_hz: belongs to a current_model"),
+            std::string::npos) << orphan.status();
 }
 
 }  // namespace

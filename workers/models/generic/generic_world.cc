@@ -258,6 +258,16 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
       dJointSetHingeParam(hinge, dParamHiStop, hi);
       dJointSetHingeParam(hinge, dParamLoStop, lo);
     }
+    if (j.friction) {
+      // Coulomb friction as the hinge's motor row held at zero speed with at most the
+      // friction torque: it holds the joint against less and opposes turning with that much.
+      const double friction = Eval(*j.friction, v);
+      if (!(friction >= 0))
+        return absl::InvalidArgumentError(absl::StrCat(j.mark.ToString(), ": joint ", j.name,
+                                                       "'s friction ", friction, " N m must be >= 0"));
+      dJointSetHingeParam(hinge, dParamVel, 0);
+      dJointSetHingeParam(hinge, dParamFMax, friction);
+    }
     joints_.push_back(hinge);
     springs_.push_back(SpringOf(j, v));
   }
@@ -362,6 +372,11 @@ absl::Status GenericWorld::BuildActuators(const ParamValues& v) {
     } else {
       s.gain = Eval(a.gain, v);
       s.max_speed = Eval(a.max_speed, v);
+      if (d_.joints[s.joint].friction)
+        return absl::InvalidArgumentError(absl::StrCat(
+            a.mark.ToString(), ": servo ", a.name, " drives joint ", a.joint,
+            " with a speed command, whose motor cannot also be the joint's friction: make it a "
+            "PD servo (kp, kd) or give the joint no friction"));
       if (!(s.gain > 0 && s.max_speed > 0 && s.max_torque >= 0 && lag >= 0))
         return absl::InvalidArgumentError(absl::StrCat(
             a.mark.ToString(), ": servo ", a.name,

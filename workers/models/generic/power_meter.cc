@@ -86,8 +86,10 @@ absl::StatusOr<std::unique_ptr<PowerMeter>> PowerMeter::For(const robots::RobotD
         if (d.actuators[i].name == name)
           m->drives_.push_back({static_cast<int>(i), motor.gear.Eval(value), motor.kt.Eval(value),
                                 motor.resistance.Eval(value)});
-  if (!e.current_model.empty())
+  if (!e.current_model.empty()) {
     if (absl::Status s = m->UseModel(d); !s.ok()) return s;
+    m->sample_period_s_ = 1.0 / e.current_model_rate_hz.Eval(value);
+  }
   return m;
 }
 
@@ -108,7 +110,18 @@ double PowerMeter::Power(const std::vector<double>& torque, const std::vector<do
 }
 
 void PowerMeter::Step(const std::vector<double>& torque, const std::vector<double>& rate, double h) {
-  energy_j_ += Power(torque, rate) * h;
+  if (!mlp_) {
+    energy_j_ += Power(torque, rate) * h;
+  } else {
+    // Sampled as the model's recordings were; a tolerance of a part in 1e9 of a period
+    // keeps a step that lands on a sample time from slipping to the next.
+    const double tolerance = 1e-9 * sample_period_s_;
+    if (seconds_ >= next_sample_s_ - tolerance) {
+      held_power_ = Power(torque, rate);
+      while (next_sample_s_ <= seconds_ + tolerance) next_sample_s_ += sample_period_s_;
+    }
+    energy_j_ += held_power_ * h;
+  }
   seconds_ += h;
 }
 

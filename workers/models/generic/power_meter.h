@@ -28,14 +28,16 @@ class PowerMeter {
   // summed on the bus with the standby power, a bus that brakes (< 0) returning
   // regen_efficiency of it. A learned model: bus_voltage times its current.
   double Power(const std::vector<double>& torque, const std::vector<double>& rate) const;
-  // Adds a step of h seconds at Power(torque, rate).
+  // Adds a step of h seconds at Power(torque, rate). A learned model is asked at its
+  // current_model_rate_hz in simulated time (the first step, then once a period has
+  // passed), its power held between.
   void Step(const std::vector<double>& torque, const std::vector<double>& rate, double h);
 
   double energy_j() const { return energy_j_; }  // since construction or the last Reset
   double seconds() const { return seconds_; }
   double bus_voltage() const { return voltage_; }
   bool learned() const { return mlp_ != nullptr; }
-  void Reset() { energy_j_ = seconds_ = 0; }
+  void Reset() { energy_j_ = seconds_ = next_sample_s_ = 0; }
 
  private:
   struct Drive {
@@ -50,6 +52,7 @@ class PowerMeter {
   std::shared_ptr<const learned::Mlp> mlp_;
   std::vector<std::pair<int, bool>> inputs_;
   mutable Eigen::VectorXd x_;
+  double sample_period_s_ = 0, held_power_ = 0, next_sample_s_ = 0;
   double energy_j_ = 0, seconds_ = 0;
 };
 

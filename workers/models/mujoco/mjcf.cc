@@ -115,6 +115,7 @@ void Writer::Universal(const robots::Joint& j, const Pose& child, const std::str
 
 absl::Status Writer::Hinge(const robots::Joint& j, const Pose& child, const std::string& pad) {
   OneHinge(j.name, child, j, j.axis, j.stiffness, j.rest, j.damping, pad);
+  if (j.friction) out << " frictionloss=\"" << Num(Eval(*j.friction, v)) << "\"";
   if (j.lo || j.hi) {
     const double lo = j.lo ? Eval(*j.lo, v) : -M_PI, hi = j.hi ? Eval(*j.hi, v) : M_PI;
     if (!(lo < hi))
