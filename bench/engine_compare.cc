@@ -1,7 +1,7 @@
-// The servo-legged robots on two engines (issue 27): each robot's descriptor built by the ODE
+// The legged robots on two engines (issues 27, 28): each robot's descriptor built by the ODE
 // builder (what studies run) and by MuJoCo 2.2.2 (workers/models/mujoco/), in one run. Per
 // robot and engine: the travel of three gaits (the robot's own gait metric: the walker's
-// 5 s from rest, the Tigrillo's measured cycles) at a reference step 10x finer than the
+// 5 s from rest, the Tigrillo's and the Go2's measured cycles) at a reference step 10x finer than the
 // robot's own, then at coarser steps; the largest step whose travel stays within 5% of that
 // reference (max over the gaits of |travel - reference|, over the mean |reference|, so a
 // gait that barely moves does not divide by zero), and the simulated seconds per CPU
@@ -41,6 +41,10 @@ const std::vector<Robot> kRobots = {
     {"tigrillo",
      {{1.0, 0.35, 0.35, 0.1, 0.1, 0.5, 0.25, 5}, {1.5, 0.3, 0.3, 0, 0, 0, 0.5, 5},
       {0.8, 0.4, 0.3, 0, 0.15, 0.5, 0.5, 5}}},
+    // Paper 002's trot at 0.22 and 0.34 m/s and its slide at 0.16 m/s (robots/go2_castors).
+    {"go2_castors",
+     {{0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5}, {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5},
+      {0.6, 0.5, 0.08, 0.34, 0.30, 1, 0.5, 0.5}}},
 };
 const std::vector<double> kSteps = {0.25, 0.5, 1, 1.5, 2, 3, 4};  // x the robot's own step
 
@@ -111,7 +115,7 @@ int main(int argc, char** argv) {
   sim::InitProcess();
   sim::InitThread();
   std::vector<std::string> rows;
-  std::printf("%-9s %-7s %8s %26s %9s %10s\n", "robot", "engine", "h (ms)", "travel (mm) per gait",
+  std::printf("%-11s %-7s %8s %26s %9s %10s\n", "robot", "engine", "h (ms)", "travel (mm) per gait",
               "dev", "sim s/cpu s");
   for (const Robot& r : kRobots) {
     const robots::RobotDescriptor& d = robots::Robot(r.name);
@@ -120,7 +124,7 @@ int main(int argc, char** argv) {
       const generic::WorldBuilder build = engine == "mujoco" ? mujoco::Engine() : nullptr;
       const Point ref = Measure(d, r, build, own / 10);
       rows.push_back(Row(r.name, engine, ref, true));
-      std::printf("%-9s %-7s %8.3f %8.1f %8.1f %8.1f %9s %10.1f  (reference)\n", r.name.c_str(),
+      std::printf("%-11s %-7s %8.3f %8.1f %8.1f %8.1f %9s %10.1f  (reference)\n", r.name.c_str(),
                   engine.c_str(), 1e3 * ref.h, 1e3 * ref.travel[0], 1e3 * ref.travel[1],
                   1e3 * ref.travel[2], "-", ref.sim_per_cpu);
       double largest = 0, speed = NAN;
@@ -128,13 +132,13 @@ int main(int argc, char** argv) {
         Point p = Measure(d, r, build, k * own);
         p.deviation = Deviation(p, ref);
         rows.push_back(Row(r.name, engine, p, false));
-        std::printf("%-9s %-7s %8.3f %8.1f %8.1f %8.1f %8.1f%% %10.1f%s\n", r.name.c_str(),
+        std::printf("%-11s %-7s %8.3f %8.1f %8.1f %8.1f %8.1f%% %10.1f%s\n", r.name.c_str(),
                     engine.c_str(), 1e3 * p.h, 1e3 * p.travel[0], 1e3 * p.travel[1],
                     1e3 * p.travel[2], 100 * p.deviation, p.sim_per_cpu,
                     p.invalid.empty() ? "" : ("  invalid: " + p.invalid).c_str());
         if (p.deviation <= 0.05 && p.h > largest) largest = p.h, speed = p.sim_per_cpu;
       }
-      std::printf("%-9s %-7s largest step within 5%%: %s ms, %.1f sim s per CPU s\n\n",
+      std::printf("%-11s %-7s largest step within 5%%: %s ms, %.1f sim s per CPU s\n\n",
                   r.name.c_str(), engine.c_str(),
                   largest > 0 ? std::to_string(1e3 * largest).c_str() : "none", speed);
     }
