@@ -154,6 +154,20 @@ TEST_F(Go2Test, AGaitOutOfReachIsInvalidWithTheReason) {
   EXPECT_NE(run.reason.find("the foot's path leaves the leg's reach"), std::string::npos) << run.reason;
 }
 
+// A fall is an invalid run with the reason, never travel: past simulation.fall_tilt_rad (1
+// rad on the Go2; here set below the trot's own 0.04 rad of tilt to make it fall).
+TEST_F(Go2Test, AFallIsInvalidWithTheReason) {
+  ParamValues v(Go2());
+  ASSERT_TRUE(v.Set("simulation.fall_tilt_rad", 0.02).ok());
+  GaitOptions o;
+  o.settle_cycles = 1;
+  o.measured_cycles = 2;
+  const GaitResult g = EvaluateGait(Go2(), v, {0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5}, o);
+  EXPECT_FALSE(g.valid);
+  EXPECT_NE(g.reason.find("fell: base tilted"), std::string::npos) << g.reason;
+  EXPECT_NE(g.reason.find("(> simulation.fall_tilt_rad = 0.02)"), std::string::npos) << g.reason;
+}
+
 // The same descriptor built in MuJoCo (another contact law, integrator and actuator): the
 // trot and the slide go the same way at about the same speed.
 TEST_F(Go2Test, ItsMujocoBuildTrotsAndSlidesAlike) {
