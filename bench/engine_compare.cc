@@ -1,8 +1,8 @@
 // The legged robots on two engines (issues 27, 28): each robot's descriptor built by the ODE
 // builder (what studies run) and by MuJoCo 2.2.2 (workers/models/mujoco/), in one run. Per
 // robot and engine: the travel of three gaits (the robot's own gait metric: the walker's
-// 5 s from rest, the Tigrillo's and the Go2's measured cycles) at a reference step 10x finer than the
-// robot's own, then at coarser steps; the largest step whose travel stays within 5% of that
+// 5 s from rest, the Tigrillo's and the Go2's measured cycles) at a reference step 10x finer than
+// the robot's own, then at coarser steps; the largest step whose travel stays within 5% of that
 // reference (max over the gaits of |travel - reference|, over the mean |reference|, so a
 // gait that barely moves does not divide by zero), and the simulated seconds per CPU
 // second at that step and at the robot's own. Prints a table, and --json FILE writes it.
@@ -39,11 +39,13 @@ struct Robot {
 const std::vector<Robot> kRobots = {
     {"walker", {{2.2, 0.52, 0.35, 0.1}, {1.2, 0.35, 0.0, 0.05}, {1.7, 0.45, 0.2, 0.15}}},
     {"tigrillo",
-     {{1.0, 0.35, 0.35, 0.1, 0.1, 0.5, 0.25, 5}, {1.5, 0.3, 0.3, 0, 0, 0, 0.5, 5},
+     {{1.0, 0.35, 0.35, 0.1, 0.1, 0.5, 0.25, 5},
+      {1.5, 0.3, 0.3, 0, 0, 0, 0.5, 5},
       {0.8, 0.4, 0.3, 0, 0.15, 0.5, 0.5, 5}}},
     // Paper 002's trot at 0.22 and 0.34 m/s and its slide at 0.16 m/s (robots/go2_castors).
     {"go2_castors",
-     {{0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5}, {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5},
+     {{0.6, 0.5, 0.08, 0.22, 0.30, 1, 0.5, 0.5},
+      {0.8, 0.6, 0.03, 0.16, 0.1, 0.3, 0, 0.5},
       {0.6, 0.5, 0.08, 0.34, 0.30, 1, 0.5, 0.5}}},
 };
 const std::vector<double> kSteps = {0.25, 0.5, 1, 1.5, 2, 3, 4};  // x the robot's own step

@@ -113,7 +113,8 @@ using Vec3Expr = std::array<Expr, 3>;
 
 // A sensor group, which becomes recording channels.
 struct Sensor {
-  std::string kind;                 // "marker" (a point's position), "joint_angle", "joint_torque" (a servo's torque) or "joint_rate" (its joint's rate)
+  std::string kind;  // "marker" (a point's position), "joint_angle", "joint_torque" (a servo's
+                     // torque) or "joint_rate" (its joint's rate)
   std::vector<std::string> names;   // markers rear to front, or joint names
   std::vector<std::string> axes;    // marker: a subset of x, y, z
   std::string spacing;              // marker: parameter with their rest spacing along x
@@ -155,8 +156,8 @@ struct Joint {
   std::optional<Expr> stiffness, damping, rest;  // N m/rad, N m s/rad, rad (about axis)
   std::optional<Expr> stiffness2, damping2, rest2;  // universal: about axis2
   std::optional<Expr> lo, hi;   // stops, rad (hinge only)
-  std::optional<Expr> friction; // Coulomb friction torque, N m (hinge only): up to this much
-                                // opposes the joint's turning, and holds it below that
+  std::optional<Expr> friction;  // Coulomb friction torque, N m (hinge only): up to this much
+                                 // opposes the joint's turning, and holds it below that
   // spring_link: the axial spring (N/m) runs from body1's point at anchor - length * axis
   // to body2's point at the anchor (length in m); `stiffness` is the bending spring, and
   // both dampers are fractions of critical damping for the two bodies (axial_damping_ratio,
@@ -238,9 +239,9 @@ struct Tracking {
 struct Electrical {
   struct Motor {
     std::vector<std::string> actuators;  // servo actuators it drives
-    Expr gear;        // rotor turns per joint turn (>= 1)
-    Expr kt;          // torque constant at the rotor (N m/A, > 0)
-    Expr resistance;  // winding resistance per phase (ohm, >= 0)
+    Expr gear;                           // rotor turns per joint turn (>= 1)
+    Expr kt;                             // torque constant at the rotor (N m/A, > 0)
+    Expr resistance;                     // winding resistance per phase (ohm, >= 0)
   };
   std::vector<Motor> motors;
   Expr bus_voltage;       // V (> 0)

@@ -1,7 +1,7 @@
 #include "robots/descriptor_parser.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,8 +12,8 @@
 #include "robots/electrical_parser.h"
 #include "robots/relations.h"
 #include "robots/structure_parser.h"
-#include "robots/tracking_parser.h"
 #include "robots/suspects_parser.h"
+#include "robots/tracking_parser.h"
 #include "robots/yaml_fields.h"
 
 namespace gaitforge::robots {
@@ -218,8 +218,10 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
   Sensor s;
   auto kind = f.String(node["kind"], path + ".kind");
   if (!kind.ok()) return kind.status();
-  if (*kind != "marker" && *kind != "joint_angle" && *kind != "joint_torque" && *kind != "joint_rate")
-    return f.Error(node["kind"], path + ".kind", "must be marker, joint_angle, joint_torque or joint_rate");
+  if (*kind != "marker" && *kind != "joint_angle" && *kind != "joint_torque" &&
+      *kind != "joint_rate")
+    return f.Error(node["kind"], path + ".kind",
+                   "must be marker, joint_angle, joint_torque or joint_rate");
   s.kind = *kind;
   auto names = f.StringList(node["names"], path + ".names");
   if (!names.ok()) return names.status();
@@ -245,8 +247,9 @@ Status ParseSensor(const YamlFields& f, const YAML::Node& node, const std::strin
     for (const auto& n : s.names)
       if (std::none_of(d.actuators.begin(), d.actuators.end(),
                        [&n](const Actuator& a) { return a.name == n && a.type == "servo"; }))
-        return f.Error(node["names"], path + ".names",
-                       absl::StrCat("no servo actuator named '", n, "' (", s.kind, " names servos)"));
+        return f.Error(
+            node["names"], path + ".names",
+            absl::StrCat("no servo actuator named '", n, "' (", s.kind, " names servos)"));
   } else {
     for (const auto& n : s.names)
       if (const Joint* j = d.FindJoint(n); !d.joints.empty() && (j == nullptr || j->type == "fixed"))
@@ -324,10 +327,12 @@ Status ParseHeader(const YamlFields& f, const YAML::Node& root, RobotDescriptor&
 
 absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::string& source) {
   YamlFields f(source);
-  if (Status s = f.CheckMap(root, "", {"format", "name", "summary", "paper", "model", "figures", "objectives", "parameters",
-                                       "counts", "scales", "suspects", "relations", "controller", "sensors",
-                                       "bodies", "joints", "actuators", "ground", "plane",
-                                       "self_contact", "tracking", "electrical"});
+  if (Status s =
+          f.CheckMap(root, "", {"format",   "name",       "summary",    "paper",   "model",
+                                "figures",  "objectives", "parameters", "counts",  "scales",
+                                "suspects", "relations",  "controller", "sensors", "bodies",
+                                "joints",   "actuators",  "ground",     "plane",   "self_contact",
+                                "tracking", "electrical"});
       !s.ok())
     return s;
   RobotDescriptor d;

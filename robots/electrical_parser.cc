@@ -35,7 +35,8 @@ Status ReadNumbers(const YamlFields& f, const YAML::Node& node, const std::strin
 
 Status ReadMotor(const YamlFields& f, const YAML::Node& node, const std::string& path,
                  RobotDescriptor& d, std::vector<std::string>& seen, Electrical::Motor& m) {
-  if (Status s = f.CheckMap(node, path, {"actuators", "gear", "kt", "resistance"}); !s.ok()) return s;
+  if (Status s = f.CheckMap(node, path, {"actuators", "gear", "kt", "resistance"}); !s.ok())
+    return s;
   auto names = f.StringList(node["actuators"], path + ".actuators");
   if (!names.ok()) return names.status();
   if (names->empty()) return f.Error(node, path + ".actuators", "name at least one servo actuator");
@@ -68,11 +69,10 @@ Status ParseElectrical(const YamlFields& f, const YAML::Node& node, RobotDescrip
     return s;
   Electrical e;
   e.mark = f.MarkOf(node);
-  if (Status s = ReadNumbers(
-          f, node, "electrical", d,
-          {{"bus_voltage", &e.bus_voltage, 0, 1e4, true, "> 0 (V)"},
-           {"standby_current", &e.standby_current, 0, 1e3, false, ">= 0 (A)"},
-           {"regen_efficiency", &e.regen_efficiency, 0, 1, false, "in [0, 1]"}});
+  if (Status s = ReadNumbers(f, node, "electrical", d,
+                             {{"bus_voltage", &e.bus_voltage, 0, 1e4, true, "> 0 (V)"},
+                              {"standby_current", &e.standby_current, 0, 1e3, false, ">= 0 (A)"},
+                              {"regen_efficiency", &e.regen_efficiency, 0, 1, false, "in [0, 1]"}});
       !s.ok())
     return s;
   if (node["current_model"]) {
@@ -93,7 +93,8 @@ Status ParseElectrical(const YamlFields& f, const YAML::Node& node, RobotDescrip
   }
   const YAML::Node motors = node["motors"];
   if (!motors || !motors.IsSequence() || motors.size() == 0)
-    return f.Error(node, "electrical.motors", "missing (a list of motor types and their actuators)");
+    return f.Error(node, "electrical.motors",
+                   "missing (a list of motor types and their actuators)");
   std::vector<std::string> seen;
   for (size_t i = 0; i < motors.size(); ++i) {
     Electrical::Motor m;

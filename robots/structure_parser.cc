@@ -210,9 +210,10 @@ Status ParseSpringLink(const YamlFields& f, const YAML::Node& n, const std::stri
 
 Status ParseJoint(const YamlFields& f, const YAML::Node& n, const std::string& path,
                   RobotDescriptor& d) {
-  if (Status s = f.CheckMap(n, path, {"name", "type", "bodies", "anchor", "axis", "axis2",
-                                      "stiffness", "damping", "rest", "lo", "hi", "friction", "length",
-                                      "axial_stiffness", "axial_damping_ratio", "damping_ratio"});
+  if (Status s = f.CheckMap(n, path,
+                            {"name", "type", "bodies", "anchor", "axis", "axis2", "stiffness",
+                             "damping", "rest", "lo", "hi", "friction", "length", "axial_stiffness",
+                             "axial_damping_ratio", "damping_ratio"});
       !s.ok())
     return s;
   Joint j;

@@ -2,8 +2,8 @@
 // Shared pieces of the gaitforge command-line client.
 #include <grpcpp/grpcpp.h>
 
-#include <memory>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -128,13 +128,15 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
 
 // Calls fn(generation, member) for every evaluated member (carried elites left out) of the
 // study's completed generations, in order; false when listing a generation fails.
-bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study, const GlobalOptions& g,
+bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                   const GlobalOptions& g,
                    const std::function<void(int, const v1::Individual&)>& fn);
 
 // A factorial sweep's (two factors or more) statistics and box plot into out_dir
 // (clients/python/gaitforge_factorial.py); nothing for another study. Appends the files.
-int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study, const std::string& out_dir,
-                  const GlobalOptions& g, std::vector<std::string>* written);
+int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                  const std::string& out_dir, const GlobalOptions& g,
+                  std::vector<std::string>* written);
 
 int CmdReport(const GlobalOptions& g, const std::vector<std::string>& args,
               const std::string& out_dir);

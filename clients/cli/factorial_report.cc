@@ -10,6 +10,7 @@
 #include "absl/strings/str_format.h"
 #include "clients/cli/cli.h"
 #include "services/core/subprocess.h"
+#include "services/spec/engine_kinds.h"
 
 namespace gaitforge::cli {
 namespace {
@@ -17,14 +18,9 @@ namespace {
 // The response: the metric the objective's fitness option names, else the fitness.
 std::string Response(const v1::StudySpec& spec) {
   const auto& options = spec.objective().options();
-  if (auto it = options.find("fitness"); it != options.end() && it->second != "travel") return it->second;
+  if (auto it = options.find("fitness"); it != options.end() && it->second != "travel")
+    return it->second;
   return "fitness";
-}
-
-int GeneIndex(const v1::StudySpec& spec, const std::string& name) {
-  for (int i = 0; i < spec.bounds_size(); ++i)
-    if (spec.bounds(i).name() == name) return i;
-  return -1;
 }
 
 void WriteDesign(const v1::StudySpec& spec, std::ostream& out) {
@@ -32,14 +28,14 @@ void WriteDesign(const v1::StudySpec& spec, std::ostream& out) {
   for (int f = 0; f < spec.sweep().factors_size(); ++f) {
     const v1::SweepFactor& factor = spec.sweep().factors(f);
     const int levels = factor.genes_size() > 0 ? factor.genes(0).values_size() : 0;
-    out << (f ? ", " : "") << "{\"name\": \"" << (factor.name().empty() ? absl::StrCat("factor", f + 1) : factor.name())
-        << "\", \"levels\": [";
+    const std::string name = factor.name().empty() ? absl::StrCat("factor", f + 1) : factor.name();
+    out << (f ? ", " : "") << "{\"name\": \"" << name << "\", \"levels\": [";
     for (int l = 0; l < levels; ++l)
       out << (l ? ", " : "") << "\""
           << (factor.levels_size() == levels ? factor.levels(l) : absl::StrCat(l + 1)) << "\"";
     out << "], \"genes\": [";
     for (int k = 0; k < factor.genes_size(); ++k)
-      out << (k ? ", " : "") << GeneIndex(spec, factor.genes(k).gene());
+      out << (k ? ", " : "") << spec::GeneIndex(spec, factor.genes(k).gene());
     out << "], \"values\": [";
     for (int k = 0; k < factor.genes_size(); ++k) {
       out << (k ? ", " : "") << "[";
@@ -52,15 +48,17 @@ void WriteDesign(const v1::StudySpec& spec, std::ostream& out) {
   out << "], \"members\": [";
 }
 
-bool WriteMembers(v1::StudyService::Stub& stub, const v1::StudySummary& study, const GlobalOptions& g,
-                  std::ostream& out) {
+bool WriteMembers(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                  const GlobalOptions& g, std::ostream& out) {
   bool first = true;
   const bool listed = ForEachMember(stub, study, g, [&](int, const v1::Individual& m) {
     out << (first ? "" : ", ") << "{\"genes\": [";
     first = false;
-    for (int i = 0; i < m.genes_size(); ++i) out << (i ? ", " : "") << absl::StrFormat("%.17g", m.genes(i));
+    for (int i = 0; i < m.genes_size(); ++i)
+      out << (i ? ", " : "") << absl::StrFormat("%.17g", m.genes(i));
     out << "], \"valid\": " << (m.evaluation().valid() ? "true" : "false")
-        << ", \"fitness\": " << absl::StrFormat("%.17g", m.evaluation().fitness()) << ", \"metrics\": {";
+        << ", \"fitness\": " << absl::StrFormat("%.17g", m.evaluation().fitness())
+        << ", \"metrics\": {";
     bool first_metric = true;
     for (const auto& [name, v] : m.evaluation().metrics()) {
       if (!std::isfinite(v)) continue;
@@ -75,8 +73,9 @@ bool WriteMembers(v1::StudyService::Stub& stub, const v1::StudySummary& study, c
 
 }  // namespace
 
-int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study, const std::string& out_dir,
-                  const GlobalOptions& g, std::vector<std::string>* written) {
+int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                  const std::string& out_dir, const GlobalOptions& g,
+                  std::vector<std::string>* written) {
   const v1::StudySpec& spec = study.spec();
   if (spec.sweep().factors_size() < 2) return kOk;
   const std::string prefix = out_dir + "/" + study.study_id() + "-factorial";
@@ -87,9 +86,12 @@ int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study, c
     return kFailed;
   }
   std::ofstream(prefix + "-data.json") << data.str();
-  const std::vector<std::string> argv = {core::Python(), core::PythonScript("gaitforge_factorial.py"),
-                                         "--data", prefix + "-data.json", "--metric", Response(spec),
-                                         "--out-prefix", prefix, "--title", study.study_id()};
+  const std::vector<std::string> argv = {
+      core::Python(), core::PythonScript("gaitforge_factorial.py"),
+      "--data",       prefix + "-data.json",
+      "--metric",     Response(spec),
+      "--out-prefix", prefix,
+      "--title",      study.study_id()};
   std::string ignored;
   if (core::RunCapture(argv, &ignored) != 0) {
     std::cerr << "gaitforge: the factorial statistics failed (needs " << core::Python()

@@ -39,8 +39,10 @@ bool WriteSweepData(v1::StudyService::Stub& stub, const v1::StudySummary& study,
   const bool listed = ForEachMember(stub, study, g, [&](int gen, const v1::Individual& m) {
     out << (first ? "" : ", ") << "[" << gen << ", ";
     first = false;
-    if (m.evaluation().valid()) out << absl::StrFormat("%.17g", m.evaluation().fitness());
-    else out << "null";
+    if (m.evaluation().valid())
+      out << absl::StrFormat("%.17g", m.evaluation().fitness());
+    else
+      out << "null";
     out << ", " << absl::StrFormat("%.17g", m.violation());
     for (double x : m.genes()) out << ", " << absl::StrFormat("%.17g", x);
     out << "]";
@@ -62,7 +64,8 @@ int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::st
   if (grpc::Status s = stub.GetStudy(&ctx, req, &study); !s.ok()) return ReportRpcError(s, "plot " + id);
   if (study.spec().engine() != "sweep" || study.spec().bounds_size() < 1) return kOk;
   // A factorial design is no grid over genes: its statistics and box plot instead.
-  if (study.spec().sweep().factors_size() > 0) return PlotFactorial(stub, study, out_dir, g, written);
+  if (study.spec().sweep().factors_size() > 0)
+    return PlotFactorial(stub, study, out_dir, g, written);
   const std::string json = out_dir + "/" + id + "-sweep.json";
   const std::string svg = out_dir + "/" + id + "-sweep.svg";
   if (!WriteSweepData(stub, study, g, json) ||
@@ -79,7 +82,8 @@ int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::st
 
 std::string PlotScriptPath() { return PlotScript(); }
 
-bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study, const GlobalOptions& g,
+bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                   const GlobalOptions& g,
                    const std::function<void(int, const v1::Individual&)>& fn) {
   for (int gen = 0; gen < study.generations_done(); ++gen) {
     grpc::ClientContext ctx;

@@ -25,6 +25,12 @@ std::string EngineNames() {
   return absl::StrJoin(names, ", ");
 }
 
+int GeneIndex(const v1::StudySpec& spec, const std::string& name) {
+  for (int i = 0; i < spec.bounds_size(); ++i)
+    if (spec.bounds(i).name() == name) return i;
+  return -1;
+}
+
 engines::Bounds BoundsOf(const v1::StudySpec& spec) {
   engines::Bounds bounds;
   for (const auto& b : spec.bounds()) {

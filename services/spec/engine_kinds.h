@@ -42,5 +42,7 @@ EngineKind SweepEngineKind();
 
 // The spec's bounds as the engines take them.
 engines::Bounds BoundsOf(const v1::StudySpec& spec);
+// The index of the gene named `name` in the spec's bounds, or -1.
+int GeneIndex(const v1::StudySpec& spec, const std::string& name);
 
 }  // namespace gaitforge::spec

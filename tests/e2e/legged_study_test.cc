@@ -141,7 +141,8 @@ TEST(Go2Study, PaperTwosTrotRunsByCmaesThroughTheStanceController) {
   // Its battery's cost of transport (the descriptor's electrical section), stored with the
   // gait: more than the 14 W standby over its 15.5 kg and at most 0.5 m/s.
   std::smatch cot;
-  ASSERT_TRUE(std::regex_search(hof, cot, std::regex(R"re("electrical_cost_of_transport":([-0-9.e]+))re")))
+  ASSERT_TRUE(
+      std::regex_search(hof, cot, std::regex(R"re("electrical_cost_of_transport":([-0-9.e]+))re")))
       << hof;
   EXPECT_GT(std::stod(cot[1]), 14.4 / (15.5 * 9.81 * 0.5));
 }
@@ -157,13 +158,16 @@ TEST(Go2Study, PaperTwosExperimentRunsEveryCellOfItsDesignOnce) {
                             "params: {cycles: 2, settle_cycles: 1}");
   const std::string id = RunLocal(dir, text, "32 evaluations");
   ASSERT_FALSE(id.empty());
-  const std::string out = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " individuals " + id +
-                                     " --generation 0 --json").out;
+  const std::string out = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") +
+                                     " individuals " + id + " --generation 0 --json")
+                              .out;
   // Per member: its genes (T first, speed fourth) and its cost of transport.
-  const std::regex member(R"re("genes":\[([0-9.]+),[0-9.]+,[0-9.]+,([0-9.]+),[^\]]*\],"evaluation":\{"valid":true.*?"electrical_cost_of_transport":([0-9.e]+))re");
+  const std::regex member(
+      R"re("genes":\[([0-9.]+),[0-9.]+,[0-9.]+,([0-9.]+),[^\]]*\],"evaluation":\{"valid":true.*?"electrical_cost_of_transport":([0-9.e]+))re");
   double trot = 0, slide = 0;
   int n = 0, slow = 0;
-  for (auto it = std::sregex_iterator(out.begin(), out.end(), member); it != std::sregex_iterator(); ++it, ++n) {
+  for (auto it = std::sregex_iterator(out.begin(), out.end(), member); it != std::sregex_iterator();
+       ++it, ++n) {
     if (std::stod((*it)[2]) != 0.16) continue;
     ++slow;
     (std::stod((*it)[1]) == 0.6 ? trot : slide) += std::stod((*it)[3]) / 4;
@@ -176,9 +180,13 @@ TEST(Go2Study, PaperTwosExperimentRunsEveryCellOfItsDesignOnce) {
   const std::string stats = ReadFile(dir.File("runs/plots/" + id + "-factorial.json"));
   EXPECT_THAT(stats, HasSubstr("\"metric\": \"electrical_cost_of_transport\""));
   std::smatch welch, gait;
-  ASSERT_TRUE(std::regex_search(stats, welch, std::regex(R"re("level": "0.16",[^}]*"p": ([-0-9.e]+))re"))) << stats;
+  ASSERT_TRUE(
+      std::regex_search(stats, welch, std::regex(R"re("level": "0.16",[^}]*"p": ([-0-9.e]+))re")))
+      << stats;
   EXPECT_LT(std::stod(welch[1]), 0.01);  // trot and slide differ at 0.16 m/s
-  ASSERT_TRUE(std::regex_search(stats, gait, std::regex(R"re("source": "gait",[^}]*"p": ([-0-9.e]+))re"))) << stats;
+  ASSERT_TRUE(
+      std::regex_search(stats, gait, std::regex(R"re("source": "gait",[^}]*"p": ([-0-9.e]+))re")))
+      << stats;
   EXPECT_LT(std::stod(gait[1]), 0.001);
   EXPECT_GT(ReadFile(dir.File("runs/plots/" + id + "-factorial.svg")).size(), 1000u);
 }

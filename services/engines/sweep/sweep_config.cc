@@ -29,8 +29,9 @@ absl::Status ValidateFactors(const SweepConfig& c) {
     }
     for (size_t l = 0; l < factor.levels.size(); ++l) {
       if (factor.levels[l].size() != factor.genes.size())
-        return absl::InvalidArgumentError(StrCat(at, ": level ", l, " has ", factor.levels[l].size(),
-                                                 " values for ", factor.genes.size(), " genes"));
+        return absl::InvalidArgumentError(StrCat(at, ": level ", l, " has ",
+                                                 factor.levels[l].size(), " values for ",
+                                                 factor.genes.size(), " genes"));
       for (size_t k = 0; k < factor.genes.size(); ++k) {
         const int g = factor.genes[k];
         const double v = factor.levels[l][k];
@@ -75,9 +76,8 @@ absl::Status ValidateSweepConfig(const SweepConfig& c) {
     return InvalidArgumentError(StrCat("sweep.points_per_axis: the grid has ", grid,
                                        " points, out of range [1, ", kMaxGrid, "]"));
   if (c.top_k < 0 || c.top_k > 1000 || c.top_k > grid)
-    return InvalidArgumentError(StrCat("sweep.top_k = ", c.top_k,
-                                       " is out of range [0, min(1000, grid points = ", grid,
-                                       ")]"));
+    return InvalidArgumentError(StrCat(
+        "sweep.top_k = ", c.top_k, " is out of range [0, min(1000, grid points = ", grid, ")]"));
   if (c.nm_max_iterations < 0 || c.nm_max_iterations > 1000000)
     return InvalidArgumentError(StrCat("sweep.nm_max_iterations = ", c.nm_max_iterations,
                                        " is out of range [0, 1000000]"));

@@ -19,45 +19,44 @@ void Defaults(v1::StudySpec* spec) {
   if (!w->has_max_evaluations()) w->set_max_evaluations(0);
 }
 
-// The gene index of bounds entry `name`, or -1.
-int GeneIndex(const v1::StudySpec& spec, const std::string& name) {
-  for (int i = 0; i < spec.bounds_size(); ++i)
-    if (spec.bounds(i).name() == name) return i;
-  return -1;
-}
-
 // sweep.factors: each names genes of the bounds (none in two factors) with one value per
 // level inside the gene's bounds, and as many level names as levels (or none). Returns the
 // product of the levels, and marks the genes the factors set in `factored`.
 double CheckFactors(const v1::StudySpec& spec, std::vector<bool>& factored,
                     std::vector<FieldError>& e) {
-  auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
+  auto add = [&](std::string path, std::string msg) {
+    e.push_back({std::move(path), std::move(msg)});
+  };
   double product = 1;
   for (int f = 0; f < spec.sweep().factors_size(); ++f) {
     const v1::SweepFactor& factor = spec.sweep().factors(f);
     const std::string at = absl::StrCat("sweep.factors[", f, "]");
     if (factor.genes_size() == 0) add(at + ".genes", "name at least one gene of the bounds");
     const int levels = factor.genes_size() > 0 ? factor.genes(0).values_size() : 0;
-    if (factor.genes_size() > 0 && levels == 0) add(at + ".genes[0].values", "give at least one level");
+    if (factor.genes_size() > 0 && levels == 0)
+      add(at + ".genes[0].values", "give at least one level");
     if (factor.levels_size() != 0 && factor.levels_size() != levels)
-      add(at + ".levels", absl::StrCat("names ", factor.levels_size(), " levels; its genes have ", levels));
+      add(at + ".levels",
+          absl::StrCat("names ", factor.levels_size(), " levels; its genes have ", levels));
     for (int k = 0; k < factor.genes_size(); ++k) {
       const v1::SweepFactorGene& g = factor.genes(k);
       const std::string gat = absl::StrCat(at, ".genes[", k, "]");
       const int i = GeneIndex(spec, g.gene());
       if (i < 0 || factored[i]) {
-        add(gat + ".gene", absl::StrCat("'", g.gene(), i < 0 ? "' is not a gene of the bounds"
-                                                             : "' is set by another factor"));
+        add(gat + ".gene",
+            absl::StrCat("'", g.gene(),
+                         i < 0 ? "' is not a gene of the bounds" : "' is set by another factor"));
         continue;
       }
       factored[i] = true;
       if (g.values_size() != levels)
-        add(gat + ".values", absl::StrCat("has ", g.values_size(), " values; the factor has ", levels, " levels"));
+        add(gat + ".values",
+            absl::StrCat("has ", g.values_size(), " values; the factor has ", levels, " levels"));
       for (int l = 0; l < g.values_size(); ++l)
         if (!(g.values(l) >= spec.bounds(i).lo() && g.values(l) <= spec.bounds(i).hi()))
           add(absl::StrCat(gat, ".values[", l, "]"),
-              absl::StrCat("= ", g.values(l), " is outside the gene's bounds [", spec.bounds(i).lo(), ", ",
-                           spec.bounds(i).hi(), "]"));
+              absl::StrCat("= ", g.values(l), " is outside the gene's bounds [",
+                           spec.bounds(i).lo(), ", ", spec.bounds(i).hi(), "]"));
     }
     product *= std::max(levels, 1);
   }
@@ -90,8 +89,8 @@ void Check(const v1::StudySpec& spec, std::vector<FieldError>& e) {
   if (grid > 1e7)
     add("sweep.points_per_axis", absl::StrCat("make a grid of ", grid, " points; at most 1e7"));
   if (w.top_k() < 0 || w.top_k() > 1000 || (grid >= 1 && w.top_k() > grid))
-    add("sweep.top_k", absl::StrCat("= ", w.top_k(), " is out of range [0, min(1000, grid size = ",
-                                    grid, ")]"));
+    add("sweep.top_k",
+        absl::StrCat("= ", w.top_k(), " is out of range [0, min(1000, grid size = ", grid, ")]"));
   const double first_batch = spec.population() > 0 ? std::min<double>(spec.population(), grid) : grid;
   const bool population_ok = spec.population() >= 0 && spec.population() <= 10000000;
   if (population_ok && w.max_evaluations() > 0 && w.max_evaluations() < first_batch)
@@ -114,7 +113,8 @@ absl::StatusOr<std::unique_ptr<engines::Engine>> Make(const v1::StudySpec& spec)
   c.points_per_axis.assign(s.points_per_axis().begin(), s.points_per_axis().end());
   for (const v1::SweepFactor& f : s.factors()) {
     engines::sweep::Factor factor;
-    for (const v1::SweepFactorGene& g : f.genes()) factor.genes.push_back(GeneIndex(spec, g.gene()));
+    for (const v1::SweepFactorGene& g : f.genes())
+      factor.genes.push_back(GeneIndex(spec, g.gene()));
     const int levels = f.genes_size() > 0 ? f.genes(0).values_size() : 0;
     for (int l = 0; l < levels; ++l) {
       std::vector<double> level;

@@ -100,15 +100,18 @@ TEST(Go2CurrentTest, AModelThatDoesNotMatchTheJointsIsRefused) {
   auto made = PowerMeter::For(*d, v);
   ASSERT_FALSE(made.ok());
   EXPECT_NE(made.status().message().find("input 'hip_xx.torque' is not a servo's torque or rate"),
-            std::string::npos) << made.status();
-  EXPECT_NE(made.status().message().find("electrical.current_model other.mlp.json"), std::string::npos);
+            std::string::npos)
+      << made.status();
+  EXPECT_NE(made.status().message().find("electrical.current_model other.mlp.json"),
+            std::string::npos);
   // And one that is not there says where it looked.
   text.replace(text.find("other.mlp.json"), 14, "gone.mlp.json");
   auto gone = robots::ParseDescriptor(text, dir + "/robot.yaml");
   ASSERT_TRUE(gone.ok());
   auto missing = PowerMeter::For(*gone, ParamValues(*gone));
   ASSERT_FALSE(missing.ok());
-  EXPECT_NE(missing.status().message().find("cannot read " + dir), std::string::npos) << missing.status();
+  EXPECT_NE(missing.status().message().find("cannot read " + dir), std::string::npos)
+      << missing.status();
 }
 
 }  // namespace

@@ -211,11 +211,14 @@ TEST_F(Go2Test, SlidingCostsLessBatteryEnergyPerMetreThanTrotting) {
   }
   const double standby_w = v("power.bus_voltage_v") * v("power.standby_current_a");
   const auto power = [](const GaitResult& g) { return g.electrical_energy_j / g.measured_s; };
-  const auto cot = [](const GaitResult& g) { return g.electrical_energy_j / (g.weight_n * g.travel_m); };
+  const auto cot = [](const GaitResult& g) {
+    return g.electrical_energy_j / (g.weight_n * g.travel_m);
+  };
   EXPECT_GT(power(slide), standby_w);
   EXPECT_GT(power(trot), power(slide));
-  EXPECT_LT(cot(slide), 0.5 * cot(trot)) << "trot " << cot(trot) << " (" << power(trot) << " W), slide "
-                                          << cot(slide) << " (" << power(slide) << " W)";
+  EXPECT_LT(cot(slide), 0.5 * cot(trot))
+      << "trot " << cot(trot) << " (" << power(trot) << " W), slide " << cot(slide) << " ("
+      << power(slide) << " W)";
 }
 
 }  // namespace

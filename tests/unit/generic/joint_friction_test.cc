@@ -22,13 +22,16 @@ std::string ArmText(const std::string& friction, const std::string& servo = "kp:
 name: rubbing_arm
 model: generic
 parameters:
-  joint: {friction_nm: {value: )") + friction + R"(, range: [0, 10], unit: N m}}
-)" + testing::kSimulationParameters + R"(bodies:
+  joint: {friction_nm: {value: )") +
+         friction + R"(, range: [0, 10], unit: N m}}
+)" + testing::kSimulationParameters +
+         R"(bodies:
   - {name: arm, shape: box, size: [0.2, 0.02, 0.02], mass: 0.5, position: [0.1, 0, 0.5]}
 joints:
   - {name: hinge, type: hinge, bodies: [world, arm], anchor: [0, 0, 0.5], axis: [0, 1, 0], friction: joint.friction_nm}
 actuators:
-  - {name: motor, type: servo, joint: hinge, )" + servo + R"(, max_torque: 5, lag_s: 0}
+  - {name: motor, type: servo, joint: hinge, )" +
+         servo + R"(, max_torque: 5, lag_s: 0}
 ground: {friction: 1, erp: 0.2, cfm: 1.0e-6}
 controller: {kind: sine, actuators: [motor], frequency_hz: [1, 2], amplitude_rad: [0, 1], offset_rad: [-1, 1]}
 sensors:
@@ -56,7 +59,8 @@ TEST_F(JointFrictionTest, HoldsBelowItsTorqueAndSlipsAbove) {
     ASSERT_TRUE(ode.ok()) << ode.status();
     auto mj = mujoco::MujocoWorld::Build(*d, v, 0);
     ASSERT_TRUE(mj.ok()) << mj.status();
-    const double a_ode = std::fabs(AngleAfterOneSecond(**ode)), a_mj = std::fabs(AngleAfterOneSecond(**mj));
+    const double a_ode = std::fabs(AngleAfterOneSecond(**ode)),
+                 a_mj = std::fabs(AngleAfterOneSecond(**mj));
     if (holds) {
       EXPECT_LT(a_ode, 0.01) << friction;
       EXPECT_LT(a_mj, 0.1) << friction;  // MuJoCo's friction loss is a soft constraint: it creeps
@@ -73,13 +77,15 @@ TEST_F(JointFrictionTest, ASpeedServosHingeOrAUniversalJointIsRefused) {
   ParamValues v(*d);
   auto w = GenericWorld::Build(*d, v, 0);
   ASSERT_FALSE(w.ok());
-  EXPECT_NE(w.status().message().find("whose motor cannot also be the joint's friction"), std::string::npos)
+  EXPECT_NE(w.status().message().find("whose motor cannot also be the joint's friction"),
+            std::string::npos)
       << w.status();
   std::string text = ArmText("0.6");
   text.replace(text.find("type: hinge"), 11, "type: universal, axis2: [1, 0, 0]");
   auto u = robots::ParseDescriptor(text, "arm.yaml");
   ASSERT_FALSE(u.ok());
-  EXPECT_NE(u.status().message().find("joints[0].friction: only a hinge has friction"), std::string::npos)
+  EXPECT_NE(u.status().message().find("joints[0].friction: only a hinge has friction"),
+            std::string::npos)
       << u.status();
 }
 

@@ -2,6 +2,8 @@
 // motor with i = tau / (gear kt), the standby power on top, and only regen_efficiency of a
 // braking bus returned. Checked by hand on numbers, then on an arm a PD servo holds out
 // against gravity (the holding torque costs copper loss only), on both engines.
+#include "workers/models/generic/power_meter.h"
+
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -11,7 +13,6 @@
 #include "tests/support/robot_text.h"
 #include "workers/models/generic/generic_gait.h"
 #include "workers/models/generic/generic_world.h"
-#include "workers/models/generic/power_meter.h"
 #include "workers/models/mujoco/mujoco_world.h"
 #include "workers/sim/ode_runtime.h"
 
@@ -27,7 +28,8 @@ model: generic
 parameters:
   arm: {length_m: {value: 0.2, range: [0.05, 1], unit: m}, mass_kg: {value: 0.5, range: [0.01, 5], unit: kg}}
   motor: {resistance_ohm: {value: 0.5, range: [0, 5], unit: ohm}}
-)") + testing::kSimulationParameters + R"(bodies:
+)") + testing::kSimulationParameters +
+         R"(bodies:
   - {name: arm, shape: box, size: [arm.length_m, 0.02, 0.02], mass: arm.mass_kg, position: [0.5*arm.length_m, 0, 0.5]}
 joints:
   - {name: hinge, type: hinge, bodies: [world, arm], anchor: [0, 0, 0.5], axis: [0, 1, 0]}
@@ -38,7 +40,8 @@ controller: {kind: sine, actuators: [motor], frequency_hz: [0.5, 2], amplitude_r
 electrical:
   bus_voltage: 24
   standby_current: 0.2
-  regen_efficiency: )" + regen + R"(
+  regen_efficiency: )" +
+         regen + R"(
   motors:
     - {actuators: [motor], gear: 10, kt: 0.1, resistance: motor.resistance_ohm}
 )";
@@ -89,7 +92,8 @@ TEST_F(PowerMeterTest, HoldingAnArmCostsItsCopperLossOnBothEngines) {
   ASSERT_TRUE(ode.ok()) << ode.status();
   auto mj = mujoco::MujocoWorld::Build(d, v, 0);
   ASSERT_TRUE(mj.ok()) << mj.status();
-  for (RobotWorld* w : {static_cast<RobotWorld*>(ode->get()), static_cast<RobotWorld*>(mj->get())}) {
+  for (RobotWorld* w :
+       {static_cast<RobotWorld*>(ode->get()), static_cast<RobotWorld*>(mj->get())}) {
     for (int i = 0; i < 2000; ++i) ASSERT_TRUE(w->Step({0.0}).ok);
     const double angle = *w->Channel("hinge.angle");
     const double moment = 0.5 * 9.81 * 0.1 * std::cos(angle);
@@ -130,7 +134,8 @@ TEST_F(PowerMeterTest, ALearnedModelIsAskedAtItsRecordingsRate) {
  "activation": "relu", "input_mean": [0], "input_sd": [1], "output_mean": [0], "output_sd": [1],
  "layers": [{"weights": [[1]], "bias": [0]}]})";
   std::string text = ArmText("0");
-  text.replace(text.find("  motors:"), 0, "  current_model: linear.mlp.json\n  current_model_rate_hz: 100\n");
+  text.replace(text.find("  motors:"), 0,
+               "  current_model: linear.mlp.json\n  current_model_rate_hz: 100\n");
   auto d = robots::ParseDescriptor(text, dir + "/geared_arm.yaml");
   ASSERT_TRUE(d.ok()) << d.status();
   ParamValues v(*d);
@@ -148,8 +153,10 @@ TEST_F(PowerMeterTest, ALearnedModelIsAskedAtItsRecordingsRate) {
   text.replace(text.find("  current_model: linear.mlp.json\n"), 33, "");
   auto orphan = robots::ParseDescriptor(text, dir + "/geared_arm.yaml");
   ASSERT_FALSE(orphan.ok());
-  EXPECT_NE(orphan.status().message().find("electrical.current_model_rate_hz: belongs to a current_model"),
-            std::string::npos) << orphan.status();
+  EXPECT_NE(orphan.status().message().find(
+                "electrical.current_model_rate_hz: belongs to a current_model"),
+            std::string::npos)
+      << orphan.status();
 }
 
 }  // namespace

@@ -30,7 +30,8 @@ TEST(ElectricalParserTest, TheGo2DrivesTwelveJointsWithTwoMotorTypesOnA28VBatter
   const auto value = [&go2](const std::string& n) { return go2.Value(n); };
   EXPECT_DOUBLE_EQ(go2.electrical->bus_voltage.Eval(value), 28.8);
   ASSERT_EQ(go2.electrical->motors.size(), 2u);
-  EXPECT_EQ(go2.electrical->motors[0].actuators.size() + go2.electrical->motors[1].actuators.size(), 12u);
+  EXPECT_EQ(go2.electrical->motors[0].actuators.size() + go2.electrical->motors[1].actuators.size(),
+            12u);
   EXPECT_DOUBLE_EQ(go2.electrical->motors[0].gear.Eval(value), 6.33);
   EXPECT_NEAR(go2.electrical->motors[1].gear.Eval(value) / 6.33, 1.917, 0.001);
   EXPECT_FALSE(Robot("caterpillar").electrical.has_value());
@@ -46,8 +47,10 @@ TEST(ElectricalParserTest, TheGo2RecordsItsServosTorquesAndRates) {
   text.replace(text.find(line), line.size(), "  - {kind: joint_torque, names: [castor_fr,");
   auto d = ParseDescriptor(text, "go2.yaml");
   ASSERT_FALSE(d.ok());
-  EXPECT_NE(d.status().message().find("no servo actuator named 'castor_fr' (joint_torque names servos)"),
-            std::string::npos) << d.status();
+  EXPECT_NE(
+      d.status().message().find("no servo actuator named 'castor_fr' (joint_torque names servos)"),
+      std::string::npos)
+      << d.status();
 }
 
 struct BadCase {
@@ -67,7 +70,8 @@ TEST_P(ElectricalParserErrorTest, IsRefusedWithWhereAndWhy) {
 const std::string kHead =
     "electrical:\n  bus_voltage: power.bus_voltage_v\n  standby_current: power.standby_current_a\n";
 const std::string kRegen = "  regen_efficiency: power.regen_efficiency\n";
-const std::string kMotor = "gear: motor.gear_hip, kt: motor.kt_nm_per_a, resistance: motor.resistance_ohm}\n";
+const std::string kMotor =
+    "gear: motor.gear_hip, kt: motor.kt_nm_per_a, resistance: motor.resistance_ohm}\n";
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, ElectricalParserErrorTest,
@@ -79,15 +83,20 @@ INSTANTIATE_TEST_SUITE_P(
                 kHead + kRegen + "  motors:\n    - {actuators: [hip_fr], " + kMotor +
                     "    - {actuators: [hip_fr], " + kMotor,
                 "electrical.motors[1].actuators: 'hip_fr' has a motor already"},
-        BadCase{"RegenAboveOne", kHead + "  regen_efficiency: 1.5\n  motors:\n    - {actuators: [hip_fr], " + kMotor,
+        BadCase{"RegenAboveOne",
+                kHead + "  regen_efficiency: 1.5\n  motors:\n    - {actuators: [hip_fr], " + kMotor,
                 "electrical.regen_efficiency: is 1.5; must be in [0, 1]"},
         BadCase{"GearBelowOne",
-                kHead + kRegen + "  motors:\n    - {actuators: [hip_fr], gear: 0.5, kt: 0.1, resistance: 0.1}\n",
+                kHead + kRegen +
+                    "  motors:\n    - {actuators: [hip_fr], gear: 0.5, kt: 0.1, resistance: 0.1}\n",
                 "electrical.motors[0].gear: is 0.5; must be >= 1"},
-        BadCase{"UnknownParameter",
-                kHead + kRegen + "  motors:\n    - {actuators: [hip_fr], gear: 6, kt: motor.kt, resistance: 0.1}\n",
-                "motor.kt"},
-        BadCase{"UnknownKey", kHead + kRegen + "  voltage: 3\n  motors:\n    - {actuators: [hip_fr], " + kMotor,
+        BadCase{
+            "UnknownParameter",
+            kHead + kRegen +
+                "  motors:\n    - {actuators: [hip_fr], gear: 6, kt: motor.kt, resistance: 0.1}\n",
+            "motor.kt"},
+        BadCase{"UnknownKey",
+                kHead + kRegen + "  voltage: 3\n  motors:\n    - {actuators: [hip_fr], " + kMotor,
                 "voltage"}),
     [](const ::testing::TestParamInfo<BadCase>& i) { return i.param.name; });
 

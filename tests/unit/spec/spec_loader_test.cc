@@ -102,19 +102,28 @@ TEST(SpecLoader, EngineSectionsAndConstraintsAreValidated) {
   s = Check("engine: sweep\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
             "sweep: {points_per_axis: [10]}\n");
   EXPECT_NE(s.message().find("make a grid of 1e+13 points; at most 1e7"), std::string::npos) << s;
-  s = Check("engine: sweep\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
-            "bounds: [{name: a, lo: 0, hi: 1}, {name: b, lo: 0, hi: 1}]\n"
-            "sweep:\n  top_k: 0\n  factors:\n"
-            "    - {name: gait, levels: [trot, slide, pace], genes: [{gene: a, values: [0.1, 2]}, {gene: c, values: [1]}]}\n"
-            "    - {name: speed, genes: [{gene: a, values: [0.5]}]}\n");
+  s = Check(
+      "engine: sweep\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
+      "bounds: [{name: a, lo: 0, hi: 1}, {name: b, lo: 0, hi: 1}]\n"
+      "sweep:\n  top_k: 0\n  factors:\n"
+      "    - {name: gait, levels: [trot, slide, pace], genes: [{gene: a, values: [0.1, 2]}, {gene: "
+      "c, values: [1]}]}\n"
+      "    - {name: speed, genes: [{gene: a, values: [0.5]}]}\n");
   EXPECT_NE(s.message().find("field 'sweep.factors[0].levels' names 3 levels; its genes have 2"),
-            std::string::npos) << s;
-  EXPECT_NE(s.message().find("field 'sweep.factors[0].genes[0].values[1]' = 2 is outside the gene's bounds [0, 1]"),
-            std::string::npos) << s;
-  EXPECT_NE(s.message().find("field 'sweep.factors[0].genes[1].gene' 'c' is not a gene of the bounds"),
-            std::string::npos) << s;
+            std::string::npos)
+      << s;
+  EXPECT_NE(
+      s.message().find(
+          "field 'sweep.factors[0].genes[0].values[1]' = 2 is outside the gene's bounds [0, 1]"),
+      std::string::npos)
+      << s;
+  EXPECT_NE(
+      s.message().find("field 'sweep.factors[0].genes[1].gene' 'c' is not a gene of the bounds"),
+      std::string::npos)
+      << s;
   EXPECT_NE(s.message().find("field 'sweep.factors[1].genes[0].gene' 'a' is set by another factor"),
-            std::string::npos) << s;
+            std::string::npos)
+      << s;
   s = Check("population: 20\ngenerations: 5\nobjective: {name: analytic.sphere}\n"
             "cmaes: {sigma0: 0.2}\nconstraints:\n  - {metric: loss, min: 3, max: 1}\n"
             "  - {max: 1}\n");
@@ -188,10 +197,10 @@ TEST(SpecLoader, ADirectoryGivenAsASpecSaysSo) {
 }
 
 TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
-  for (const char* f : {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml",
-                        "examples/analytic-cmaes.yaml", "examples/analytic-sweep.yaml",
-                        "examples/robot-ga.yaml", "examples/caterpillar-robust.yaml",
-                        "examples/go2-experiment.yaml"}) {
+  for (const char* f :
+       {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml", "examples/analytic-cmaes.yaml",
+        "examples/analytic-sweep.yaml", "examples/robot-ga.yaml",
+        "examples/caterpillar-robust.yaml", "examples/go2-experiment.yaml"}) {
     auto loaded = LoadSpecFile(std::string(GAITFORGE_SOURCE_DIR) + "/" + f);
     ASSERT_TRUE(loaded.ok()) << loaded.status();
     ApplyDefaults(&loaded->spec);

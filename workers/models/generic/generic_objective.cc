@@ -106,9 +106,8 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
   const double work = g.servo_energy_j + g.piston_work_j;
   const double cot = g.travel_m > 0 ? work / (g.weight_n * g.travel_m) : NAN;
   if (g.travel_m > 0) r.metrics["cost_of_transport"] = cot;
-  const double electrical_cot = g.electrical && g.travel_m > 0
-                                    ? g.electrical_energy_j / (g.weight_n * g.travel_m)
-                                    : NAN;
+  const double electrical_cot =
+      g.electrical && g.travel_m > 0 ? g.electrical_energy_j / (g.weight_n * g.travel_m) : NAN;
   if (g.electrical) {
     r.metrics["electrical_energy_j"] = g.electrical_energy_j;
     if (g.measured_s > 0) r.metrics["electrical_power_w"] = g.electrical_energy_j / g.measured_s;
@@ -123,7 +122,8 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
   }
   if (auto it = in.options.find("fitness"); it != in.options.end() && it->second != "travel") {
     if (it->second == "electrical_cost_of_transport" && !g.electrical) {
-      r.reason = "electrical cost of transport: the robot has no electrical section (docs/robots.md)";
+      r.reason =
+          "electrical cost of transport: the robot has no electrical section (docs/robots.md)";
       return r;
     }
     if (!(g.travel_m > 0)) {

@@ -28,15 +28,16 @@ bool RunWorld(const robots::RobotDescriptor& d, const ParamValues& v, double tim
   std::vector<double> commands;
   // A robot whose descriptor says when its first body has fallen (simulation.fall_tilt_rad):
   // past that tilt the run is invalid with the reason, never travel (issue 28).
-  const double fall = d.FindParameter("simulation.fall_tilt_rad") ? v("simulation.fall_tilt_rad") : 0;
+  const double fall =
+      d.FindParameter("simulation.fall_tilt_rad") ? v("simulation.fall_tilt_rad") : 0;
   for (int64_t i = 0; i < total; ++i) {
     each(w, i);
     commands_of(i, commands);
     sim::SimOutcome out = w.Step(commands);
     if (out.ok && fall > 0 && w.max_tilt() > fall)
-      out = sim::SimOutcome::Failed(absl::StrCat("fell: ", d.bodies.front().name, " tilted ", w.max_tilt(),
-                                                 " rad (> simulation.fall_tilt_rad = ", fall, ") at t = ",
-                                                 w.time(), " s"));
+      out = sim::SimOutcome::Failed(
+          absl::StrCat("fell: ", d.bodies.front().name, " tilted ", w.max_tilt(),
+                       " rad (> simulation.fall_tilt_rad = ", fall, ") at t = ", w.time(), " s"));
     if (!out.ok) {
       *reason = out.reason;
       *simulated_s = w.time();

@@ -263,8 +263,8 @@ absl::Status GenericWorld::BuildJoints(const ParamValues& v) {
       // friction torque: it holds the joint against less and opposes turning with that much.
       const double friction = Eval(*j.friction, v);
       if (!(friction >= 0))
-        return absl::InvalidArgumentError(absl::StrCat(j.mark.ToString(), ": joint ", j.name,
-                                                       "'s friction ", friction, " N m must be >= 0"));
+        return absl::InvalidArgumentError(absl::StrCat(
+            j.mark.ToString(), ": joint ", j.name, "'s friction ", friction, " N m must be >= 0"));
       dJointSetHingeParam(hinge, dParamVel, 0);
       dJointSetHingeParam(hinge, dParamFMax, friction);
     }

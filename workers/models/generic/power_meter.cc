@@ -50,8 +50,9 @@ absl::StatusOr<std::shared_ptr<const learned::Mlp>> CurrentModel(const robots::R
 absl::Status PowerMeter::UseModel(const robots::RobotDescriptor& d) {
   auto mlp = CurrentModel(d);
   if (!mlp.ok()) return mlp.status();
-  const std::string where = absl::StrCat(d.electrical->mark.ToString(), ": electrical.current_model ",
-                                         d.electrical->current_model, ": ");
+  const std::string where =
+      absl::StrCat(d.electrical->mark.ToString(), ": electrical.current_model ",
+                   d.electrical->current_model, ": ");
   if ((*mlp)->outputs != std::vector<std::string>{"bus.current"})
     return absl::InvalidArgumentError(where + "its one output must be bus.current (A)");
   for (const std::string& in : (*mlp)->inputs) {
@@ -60,7 +61,8 @@ absl::Status PowerMeter::UseModel(const robots::RobotDescriptor& d) {
     const std::string field = dot == std::string::npos ? "" : in.substr(dot + 1);
     int index = -1;
     for (size_t i = 0; i < d.actuators.size(); ++i)
-      if (d.actuators[i].name == base && d.actuators[i].type == "servo") index = static_cast<int>(i);
+      if (d.actuators[i].name == base && d.actuators[i].type == "servo")
+        index = static_cast<int>(i);
     if (index < 0 || (field != "torque" && field != "rate"))
       return absl::InvalidArgumentError(absl::StrCat(
           where, "input '", in, "' is not a servo's torque or rate (SERVO.torque, SERVO.rate)"));
@@ -93,7 +95,8 @@ absl::StatusOr<std::unique_ptr<PowerMeter>> PowerMeter::For(const robots::RobotD
   return m;
 }
 
-double PowerMeter::MotorPower(const std::vector<double>& torque, const std::vector<double>& rate) const {
+double PowerMeter::MotorPower(const std::vector<double>& torque,
+                              const std::vector<double>& rate) const {
   double p = voltage_ * standby_;
   for (const Drive& dr : drives_) {
     const double tau = torque[dr.actuator], current = tau / (dr.gear * dr.kt);
@@ -105,11 +108,13 @@ double PowerMeter::MotorPower(const std::vector<double>& torque, const std::vect
 double PowerMeter::Power(const std::vector<double>& torque, const std::vector<double>& rate) const {
   if (!mlp_) return MotorPower(torque, rate);
   for (size_t k = 0; k < inputs_.size(); ++k)
-    x_[static_cast<Eigen::Index>(k)] = inputs_[k].second ? rate[inputs_[k].first] : torque[inputs_[k].first];
+    x_[static_cast<Eigen::Index>(k)] =
+        inputs_[k].second ? rate[inputs_[k].first] : torque[inputs_[k].first];
   return voltage_ * mlp_->Eval(x_)[0];
 }
 
-void PowerMeter::Step(const std::vector<double>& torque, const std::vector<double>& rate, double h) {
+void PowerMeter::Step(const std::vector<double>& torque, const std::vector<double>& rate,
+                      double h) {
   if (!mlp_) {
     energy_j_ += Power(torque, rate) * h;
   } else {
