@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,17 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
 bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study,
                    const GlobalOptions& g,
                    const std::function<void(int, const v1::Individual&)>& fn);
+
+// Every evaluated member (ForEachMember) as a JSON array of {generation, member, genes,
+// valid, fitness, violation, metrics}; false when listing fails.
+bool WriteMembersJson(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                      const GlobalOptions& g, std::ostream& out);
+
+// A multi-objective (nsga2) study's Pareto figure into out_dir: every member's first two
+// objectives and the final front (clients/python/gaitforge_plot.py pareto); nothing for
+// another engine. Appends the files.
+int PlotPareto(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
+               const GlobalOptions& g, std::vector<std::string>* written);
 
 // A factorial sweep's (two factors or more) statistics and box plot into out_dir
 // (clients/python/gaitforge_factorial.py); nothing for another study. Appends the files.

@@ -45,30 +45,7 @@ void WriteDesign(const v1::StudySpec& spec, std::ostream& out) {
     }
     out << "]}";
   }
-  out << "], \"members\": [";
-}
-
-bool WriteMembers(v1::StudyService::Stub& stub, const v1::StudySummary& study,
-                  const GlobalOptions& g, std::ostream& out) {
-  bool first = true;
-  const bool listed = ForEachMember(stub, study, g, [&](int, const v1::Individual& m) {
-    out << (first ? "" : ", ") << "{\"genes\": [";
-    first = false;
-    for (int i = 0; i < m.genes_size(); ++i)
-      out << (i ? ", " : "") << absl::StrFormat("%.17g", m.genes(i));
-    out << "], \"valid\": " << (m.evaluation().valid() ? "true" : "false")
-        << ", \"fitness\": " << absl::StrFormat("%.17g", m.evaluation().fitness())
-        << ", \"metrics\": {";
-    bool first_metric = true;
-    for (const auto& [name, v] : m.evaluation().metrics()) {
-      if (!std::isfinite(v)) continue;
-      out << (first_metric ? "" : ", ") << "\"" << name << "\": " << absl::StrFormat("%.17g", v);
-      first_metric = false;
-    }
-    out << "}}";
-  });
-  out << "]}\n";
-  return listed;
+  out << "], \"members\": ";
 }
 
 }  // namespace
@@ -81,10 +58,11 @@ int PlotFactorial(v1::StudyService::Stub& stub, const v1::StudySummary& study,
   const std::string prefix = out_dir + "/" + study.study_id() + "-factorial";
   std::ostringstream data;
   WriteDesign(spec, data);
-  if (!WriteMembers(stub, study, g, data)) {
+  if (!WriteMembersJson(stub, study, g, data)) {
     std::cerr << "gaitforge: the factorial statistics could not list the study's members\n";
     return kFailed;
   }
+  data << "}\n";
   std::ofstream(prefix + "-data.json") << data.str();
   const std::vector<std::string> argv = {
       core::Python(), core::PythonScript("gaitforge_factorial.py"),

@@ -4,13 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
-#include "clients/cli/cli.h"
 #include "absl/strings/str_format.h"
+#include "clients/cli/cli.h"
 #include "services/core/subprocess.h"
 
 namespace gaitforge::cli {
@@ -56,12 +57,9 @@ bool WriteSweepData(v1::StudyService::Stub& stub, const v1::StudySummary& study,
 // (PlotFactorial). Nothing for another engine.
 int PlotSweep(v1::StudyService::Stub& stub, const std::string& id, const std::string& out_dir,
               const GlobalOptions& g, std::vector<std::string>* written) {
-  grpc::ClientContext ctx;
-  SetDeadline(ctx, g.timeout_s);
-  v1::GetStudyRequest req;
-  req.set_study_id(id);
   v1::StudySummary study;
-  if (grpc::Status s = stub.GetStudy(&ctx, req, &study); !s.ok()) return ReportRpcError(s, "plot " + id);
+  if (grpc::Status s = FetchStudy(stub, g, id, &study); !s.ok())
+    return ReportRpcError(s, "plot " + id);
   if (study.spec().engine() != "sweep" || study.spec().bounds_size() < 1) return kOk;
   // A factorial design is no grid over genes: its statistics and box plot instead.
   if (study.spec().sweep().factors_size() > 0)
@@ -97,6 +95,31 @@ bool ForEachMember(v1::StudyService::Stub& stub, const v1::StudySummary& study,
       if (!m.carried()) fn(gen, m);
   }
   return true;
+}
+
+bool WriteMembersJson(v1::StudyService::Stub& stub, const v1::StudySummary& study,
+                      const GlobalOptions& g, std::ostream& out) {
+  bool first = true;
+  out << "[";
+  const bool listed = ForEachMember(stub, study, g, [&](int gen, const v1::Individual& m) {
+    out << (first ? "" : ", ") << "{\"generation\": " << gen << ", \"member\": " << m.member()
+        << ", \"genes\": [";
+    first = false;
+    for (int i = 0; i < m.genes_size(); ++i)
+      out << (i ? ", " : "") << absl::StrFormat("%.17g", m.genes(i));
+    out << "], \"valid\": " << (m.evaluation().valid() ? "true" : "false")
+        << ", \"fitness\": " << absl::StrFormat("%.17g", m.evaluation().fitness())
+        << ", \"violation\": " << absl::StrFormat("%.17g", m.violation()) << ", \"metrics\": {";
+    bool first_metric = true;
+    for (const auto& [name, v] : m.evaluation().metrics()) {
+      if (!std::isfinite(v)) continue;
+      out << (first_metric ? "" : ", ") << "\"" << name << "\": " << absl::StrFormat("%.17g", v);
+      first_metric = false;
+    }
+    out << "}}";
+  });
+  out << "]";
+  return listed;
 }
 
 int RunPlotScript(const std::vector<std::string>& args) {
@@ -136,6 +159,7 @@ int PlotStudy(v1::StudyService::Stub& stub, const std::string& id, const std::st
     return kFailed;
   }
   written->push_back(svg);
+  if (int code = PlotPareto(stub, id, out_dir, g, written); code != kOk) return code;
   return PlotSweep(stub, id, out_dir, g, written);
 }
 

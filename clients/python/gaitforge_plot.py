@@ -397,6 +397,49 @@ def sweep(args):
     return 0
 
 
+def pareto(args):
+    """Every evaluated member in the plane of the first two objectives, coloured by
+    generation, and the final front (the engine's hall of fame) joined in order."""
+    with open(args.data) as f:
+        data = json.load(f)
+    objectives, members = data["objectives"], data["members"]
+    names = [o["metric"] for o in objectives[:2]]
+    have = [m for m in members if m["valid"] and all(n in m["metrics"] for n in names)]
+    if not have:
+        print(f"gaitforge_plot: {args.data}: no valid member reports {', '.join(names)}",
+              file=sys.stderr)
+        return 2
+    front_keys = {tuple(k) for k in data["front"]}
+    xy = lambda m: (m["metrics"][names[0]], m["metrics"][names[1]])
+    fig, ax = plt.subplots(figsize=(7, 5))
+    points = ax.scatter([xy(m)[0] for m in have], [xy(m)[1] for m in have], s=10,
+                        c=[m["generation"] for m in have], cmap="viridis", alpha=0.7,
+                        label="evaluated members")
+    fig.colorbar(points, ax=ax, label="generation")
+    front = sorted((xy(m) for m in have if (m["generation"], m["member"]) in front_keys))
+    if front:
+        fx, fy = zip(*front)
+        ax.plot(fx, fy, "-o", color="tab:red", ms=5, mec="black", lw=1.2, zorder=4,
+                label=f"Pareto front ({len(front)} members)")
+    # An axis whose positive values span more than 30 times is drawn logarithmic: a few
+    # gaits that barely move cost hundreds of times the front's energy.
+    for values, scale in (([xy(m)[0] for m in have], ax.set_xscale),
+                          ([xy(m)[1] for m in have], ax.set_yscale)):
+        if min(values) > 0 and max(values) > 30 * min(values):
+            scale("log")
+    arrow = {"maximize": "higher is better", "minimize": "lower is better"}
+    ax.set_xlabel(f"{names[0]} ({arrow[objectives[0]['sense']]})")
+    ax.set_ylabel(f"{names[1]} ({arrow[objectives[1]['sense']]})")
+    more = f"; objectives beyond these two: {len(objectives) - 2}" if len(objectives) > 2 else ""
+    ax.set_title(f"{args.title}: {len(have)} valid of {len(members)} members{more}", fontsize=10)
+    ax.legend(loc="best", fontsize=8, framealpha=0.8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(args.out)
+    print(args.out)
+    return 0
+
+
 def diagnosis(args):
     import gaitforge_diagnosis_figure
     print(gaitforge_diagnosis_figure.draw(args.report, args.out))
@@ -436,6 +479,11 @@ def main():
     g.add_argument("--report", required=True, help="the diagnosis.json `gaitforge diagnose` writes")
     g.add_argument("--out", required=True, help="image file (.svg or .png)")
     g.set_defaults(run=diagnosis)
+    q = sub.add_parser("pareto", help="an nsga2 study's members and Pareto front")
+    q.add_argument("--data", required=True, help="the -pareto.json `gaitforge plot` writes")
+    q.add_argument("--out", required=True, help="image file (.svg or .png)")
+    q.add_argument("--title", default="Pareto front")
+    q.set_defaults(run=pareto)
     t = sub.add_parser("tracking", help="a path and the tip under each controller, and their errors")
     t.add_argument("--run", dest="runs", action="append", required=True,
                    help="LABEL=TICKS.csv (gaitforge-sim track --out)")

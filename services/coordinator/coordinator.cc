@@ -252,6 +252,15 @@ void Coordinator::Accept(Study& s, int member, Result result,
   row.origin_generation = row.generation;
   row.origin_member = member;
   row.reported_ms = clock_.UnixMs();
+  // A multi-objective study needs every objective's metric: without one the result is
+  // invalid, with the reason, rather than ranked on a made-up value.
+  std::vector<double> objectives;
+  if (auto st = spec::ObjectivesOf(s.spec, result.evaluation, &objectives); !st.ok()) {
+    result.evaluation.set_valid(false);
+    result.evaluation.set_reason(std::string(st.message()));
+    row.valid = false;
+    row.reason = result.evaluation.reason();
+  }
   result.violation = Violation(s.spec, result.evaluation.valid(), row.metrics);
   row.violation = result.violation;
   out->push_back(std::move(row));
@@ -275,6 +284,8 @@ void Coordinator::CompleteGeneration(Study& s) {
   for (size_t m = 0; m < cands.size(); ++m) {
     const Result& r = *s.results[m];
     evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation};
+    if (!spec::ObjectivesOf(s.spec, r.evaluation, &evals[m].objectives).ok())
+      evals[m].valid = false;
     if (r.carried) {
       storage::IndividualRecord row;
       row.study_id = s.id;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/strings/str_cat.h"
+
 namespace gaitforge::engines {
 
 double Bounds::Fold(size_t i, double x) const {
@@ -16,6 +18,18 @@ double Bounds::Near(size_t i, double x, double ref) const {
   if (!IsCircular(i)) return x;
   const double period = hi[i] - lo[i];
   return ref + std::remainder(x - ref, period);
+}
+
+absl::Status ValidateBounds(const Bounds& bounds) {
+  if (bounds.size() == 0 || bounds.lo.size() != bounds.hi.size())
+    return absl::InvalidArgumentError("bounds: at least one gene with lo and hi is required");
+  for (size_t i = 0; i < bounds.size(); ++i) {
+    const double lo = bounds.lo[i], hi = bounds.hi[i];
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
+      return absl::InvalidArgumentError(
+          absl::StrCat("bounds[", i, "]: need finite lo < hi, got lo = ", lo, ", hi = ", hi));
+  }
+  return absl::OkStatus();
 }
 
 bool SameGenotype(const std::vector<double>& a, const std::vector<double>& b,

@@ -23,6 +23,9 @@ struct Evaluation {
   double fitness = 0.0;
   std::string reason;
   double violation = 0.0;
+  // A multi-objective engine's objectives (nsga2), each "higher is better", from the
+  // metrics the study's spec names; empty for the single-objective engines.
+  std::vector<double> objectives;
 };
 
 struct Candidate {
@@ -58,6 +61,10 @@ struct Bounds {
   // that differences and means across the seam are those on the circle.
   double Near(size_t i, double x, double ref) const;
 };
+
+// Bounds an engine can search: at least one gene, lo and hi finite with lo < hi. The
+// message names the gene's index and its values.
+absl::Status ValidateBounds(const Bounds& bounds);
 
 // The same genotype: every gene equal within 1e-9 of its range, except that the circular
 // genes may all be shifted by one common amount (a gait started at another phase).

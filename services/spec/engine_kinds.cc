@@ -9,6 +9,7 @@ const std::vector<EngineKind>& EngineKinds() {
       GaEngineKind(),     // paper 000's GA (default)
       CmaesEngineKind(),  // CMA-ES with IPOP/BIPOP restarts
       SweepEngineKind(),  // grid, then Nelder-Mead
+      Nsga2EngineKind(),  // the Pareto front of several metrics
   };
   return kinds;
 }

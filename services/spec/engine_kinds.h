@@ -33,12 +33,19 @@ struct EngineKind {
 
 const std::vector<EngineKind>& EngineKinds();
 const EngineKind* FindEngineKind(std::string_view name);  // nullptr when unknown
-std::string EngineNames();                                 // "ga, cmaes, sweep"
+std::string EngineNames();                                // "ga, cmaes, sweep, nsga2"
 
 // Each engine's kind (services/spec/engines/*.cc).
 EngineKind GaEngineKind();
 EngineKind CmaesEngineKind();
 EngineKind SweepEngineKind();
+EngineKind Nsga2EngineKind();
+
+// A multi-objective study's objectives of a valid evaluation, each "higher is better" (a
+// minimised metric negated), from its metrics; empty for another engine or an invalid
+// evaluation. An error names the metric that is missing or not finite.
+absl::Status ObjectivesOf(const v1::StudySpec& spec, const v1::Evaluation& e,
+                          std::vector<double>* out);
 
 // The spec's bounds as the engines take them.
 engines::Bounds BoundsOf(const v1::StudySpec& spec);

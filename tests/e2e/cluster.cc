@@ -1,21 +1,21 @@
 #include "tests/e2e/cluster.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <sqlite3.h>
 #include <stdio.h>
-#include <sys/wait.h>
-
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <thread>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <thread>
 
 #include "clients/cli/processes.h"
 #include "tests/support/temp_dir.h"
@@ -23,6 +23,36 @@
 namespace gaitforge::testing {
 
 std::string Bin(const std::string& name) { return std::string(GAITFORGE_BIN_DIR) + "/" + name; }
+
+std::string RunClusterStudy(const TempDir& dir, const std::string& db, const std::string& text,
+                            int workers) {
+  WriteFile(dir.File("spec.yaml"), text);
+  LocalCluster cluster(dir.path(), db);
+  if (!cluster.ok()) return "";
+  auto submit = cluster.Cli("submit " + dir.File("spec.yaml"));
+  EXPECT_EQ(submit.exit_code, 0) << submit.err;
+  const std::string id = submit.out.substr(0, submit.out.find('\n'));
+  cluster.StartWorkers(workers);
+  auto watch = cluster.Cli("watch " + id + " --json");
+  EXPECT_EQ(watch.exit_code, 0) << watch.err;
+  EXPECT_NE(watch.out.find("STUDY_STATE_COMPLETED"), std::string::npos) << watch.out;
+  return id;
+}
+
+std::string RunLocal(const TempDir& dir, const std::string& text, const std::string& expect) {
+  WriteFile(dir.File("spec.yaml"), text);
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
+  auto r = RunCommand(cli + " local spec.yaml --workers 2");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+  auto list = RunCommand(cli + " list --json");
+  std::smatch m;
+  if (!std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) {
+    ADD_FAILURE() << list.out;
+    return "";
+  }
+  return m[1].str();
+}
 
 std::vector<std::string> Rows(const std::string& db, const std::string& sql) {
   sqlite3* h = nullptr;

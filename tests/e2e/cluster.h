@@ -26,6 +26,15 @@ CommandResult RunCommand(const std::string& command_line);
 // committed at least `generations` generations; "" after 120 s.
 std::string WaitForGenerations(const std::string& cli, int generations);
 
+class TempDir;
+// Submits spec `text` to a LocalCluster on db in dir, with `workers` workers, and watches it
+// to the end (a failure unless it completes). Returns the study's id ("" if none started).
+std::string RunClusterStudy(const TempDir& dir, const std::string& db, const std::string& text,
+                            int workers);
+// Runs spec `text` with `gaitforge local` in dir on 2 workers; its stderr must hold
+// `expect`. Returns the study's id ("" and a failure if none).
+std::string RunLocal(const TempDir& dir, const std::string& text, const std::string& expect);
+
 // GET http://127.0.0.1:port/path; returns the body ("" on failure).
 std::string HttpGet(int port, const std::string& path);
 

@@ -87,23 +87,6 @@ TEST(WalkerStudy, BodyGenesMustBeTheRobotsParametersInTheirRanges) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("runs/gaitforge.db")));
 }
 
-// Runs spec `text` with `gaitforge local` in dir on 2 workers; its stderr must hold
-// `expect`. Returns the study's id ("" and a failure if none).
-std::string RunLocal(const TempDir& dir, const std::string& text, const std::string& expect) {
-  WriteFile(dir.File("spec.yaml"), text);
-  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge");
-  auto r = RunCommand(cli + " local spec.yaml --workers 2");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(expect));
-  auto list = RunCommand(cli + " list --json");
-  std::smatch m;
-  if (!std::regex_search(list.out, m, std::regex(R"re("study_id":"([^"]+)")re"))) {
-    ADD_FAILURE() << list.out;
-    return "";
-  }
-  return m[1].str();
-}
-
 // An example gait study run by `gaitforge local` with 4 members for 2 generations (and the
 // extra edits), in `dir`: its hall of fame as JSON.
 std::string SmallExampleHof(const TempDir& dir, const std::string& example,

@@ -26,17 +26,7 @@ objective:
 )";
 
 std::string RunStudy(const TempDir& dir, const std::string& db, int workers) {
-  WriteFile(dir.File("spec.yaml"), kSpec);
-  LocalCluster cluster(dir.path(), db);
-  if (!cluster.ok()) return "";
-  auto submit = cluster.Cli("submit " + dir.File("spec.yaml"));
-  EXPECT_EQ(submit.exit_code, 0) << submit.err;
-  const std::string id = submit.out.substr(0, submit.out.find('\n'));
-  cluster.StartWorkers(workers);
-  auto watch = cluster.Cli("watch " + id + " --json");
-  EXPECT_EQ(watch.exit_code, 0) << watch.err;
-  EXPECT_NE(watch.out.find("STUDY_STATE_COMPLETED"), std::string::npos) << watch.out;
-  return id;
+  return RunClusterStudy(dir, db, kSpec, workers);
 }
 
 TEST(EndToEnd, AStudyRunsOverGrpcAndIsStoredInSqlite) {

@@ -37,7 +37,34 @@ double Rastrigin(const std::vector<double>& z) {
   return f;
 }
 
+std::pair<double, double> Zdt1(const std::vector<double>& u) {
+  double s = 0;
+  for (size_t i = 1; i < u.size(); ++i) s += u[i];
+  const double g = u.size() > 1 ? 1 + 9 * s / (u.size() - 1) : 1, f1 = u.empty() ? 0 : u[0];
+  return {f1, g * (1 - std::sqrt(f1 / g))};
+}
+
 namespace {
+
+// The genes mapped to [0, 1] by their ranges.
+std::vector<double> UnitGenes(const EvalInput& in) {
+  std::vector<double> u(in.genes.size());
+  for (size_t i = 0; i < u.size(); ++i) u[i] = (in.genes[i] - in.lo[i]) / (in.hi[i] - in.lo[i]);
+  return u;
+}
+
+class Zdt1Objective final : public Objective {
+ public:
+  EvalResult Evaluate(const EvalInput& in) const override {
+    const auto [f1, f2] = Zdt1(UnitGenes(in));
+    EvalResult r;
+    r.valid = true;
+    r.fitness = -(f1 + f2);
+    r.metrics["f1"] = f1;
+    r.metrics["f2"] = f2;
+    return r;
+  }
+};
 
 using LossFn = double (*)(const std::vector<double>&);
 
@@ -52,9 +79,10 @@ class Analytic final : public Objective {
     };
     const double shift = get("shift", 0.2);
     const double work_us = get("work_us", 0);
-    std::vector<double> z(in.genes.size());
+    const std::vector<double> u = UnitGenes(in);  // [0, 1)
+    std::vector<double> z(u.size());
     for (size_t i = 0; i < z.size(); ++i) {
-      const double unit = (in.genes[i] - in.lo[i]) / (in.hi[i] - in.lo[i]);  // [0, 1)
+      const double unit = u[i];
       // Alternate the shift's sign so the optimum is off every diagonal.
       const double s = (i % 2 == 0 ? 1.0 : -1.0) * shift * 5.0;
       z[i] = 10.0 * unit - 5.0 - s;
@@ -85,6 +113,7 @@ void RegisterAnalytic(ObjectiveRegistry& registry) {
   registry.Register("analytic.ellipsoid", std::make_shared<Analytic>(&Ellipsoid));
   registry.Register("analytic.rosenbrock", std::make_shared<Analytic>(&Rosenbrock));
   registry.Register("analytic.rastrigin", std::make_shared<Analytic>(&Rastrigin));
+  registry.Register("analytic.zdt1", std::make_shared<Zdt1Objective>());
 }
 
 }  // namespace gaitforge::objectives

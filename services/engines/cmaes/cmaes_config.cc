@@ -26,17 +26,10 @@ std::string_view RestartsName(Restarts r) {
 absl::Status ValidateCmaesConfig(const CmaesConfig& c) {
   using absl::InvalidArgumentError;
   using absl::StrCat;
-  if (c.bounds.size() == 0 || c.bounds.lo.size() != c.bounds.hi.size())
-    return InvalidArgumentError("bounds: at least one gene with lo and hi is required");
+  if (auto s = ValidateBounds(c.bounds); !s.ok()) return s;
   if (c.bounds.size() > 1000)
     return InvalidArgumentError(
         StrCat("bounds: ", c.bounds.size(), " genes is out of range [1, 1000] for cmaes"));
-  for (size_t i = 0; i < c.bounds.size(); ++i) {
-    const double lo = c.bounds.lo[i], hi = c.bounds.hi[i];
-    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
-      return InvalidArgumentError(
-          StrCat("bounds[", i, "]: need finite lo < hi, got lo = ", lo, ", hi = ", hi));
-  }
   if (!c.mean0.empty()) {
     if (c.mean0.size() != c.bounds.size())
       return InvalidArgumentError(StrCat("cmaes.mean0 has ", c.mean0.size(),

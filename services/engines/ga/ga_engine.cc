@@ -39,15 +39,7 @@ absl::Status ValidateGaConfig(const GaConfig& c) {
   if (c.stop_fitness && !std::isfinite(*c.stop_fitness))
     return absl::InvalidArgumentError(
         absl::StrCat("ga.stop_fitness = ", *c.stop_fitness, " is not a finite number"));
-  if (c.bounds.size() == 0 || c.bounds.lo.size() != c.bounds.hi.size())
-    return absl::InvalidArgumentError("bounds: at least one gene with lo and hi is required");
-  for (size_t i = 0; i < c.bounds.size(); ++i) {
-    const double lo = c.bounds.lo[i], hi = c.bounds.hi[i];
-    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
-      return absl::InvalidArgumentError(absl::StrCat(
-          "bounds[", i, "]: need finite lo < hi, got lo = ", lo, ", hi = ", hi));
-  }
-  return absl::OkStatus();
+  return ValidateBounds(c.bounds);
 }
 
 GaEngine::GaEngine(const GaConfig& config) : config_(config) {}

@@ -50,14 +50,7 @@ absl::Status ValidateFactors(const SweepConfig& c) {
 absl::Status ValidateSweepConfig(const SweepConfig& c) {
   using absl::InvalidArgumentError;
   using absl::StrCat;
-  if (c.bounds.size() == 0 || c.bounds.lo.size() != c.bounds.hi.size())
-    return InvalidArgumentError("bounds: at least one gene with lo and hi is required");
-  for (size_t i = 0; i < c.bounds.size(); ++i) {
-    const double lo = c.bounds.lo[i], hi = c.bounds.hi[i];
-    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
-      return InvalidArgumentError(
-          StrCat("bounds[", i, "]: need finite lo < hi, got lo = ", lo, ", hi = ", hi));
-  }
+  if (auto s = ValidateBounds(c.bounds); !s.ok()) return s;
   if (c.points_per_axis.size() != 1 && c.points_per_axis.size() != c.bounds.size())
     return InvalidArgumentError(StrCat("sweep.points_per_axis has ", c.points_per_axis.size(),
                                        " values, expected 1 or one per gene (",

@@ -12,13 +12,19 @@
 namespace gaitforge::spec {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-v1::StudySpec Minimal(const std::string& engine) {
-  auto loaded = ParseSpec("engine: " + engine +
-                              "\npopulation: 12\ngenerations: 3\nobjective: {name: analytic.sphere}\n"
-                              "bounds: [{name: a, lo: 0, hi: 1}, {name: b, lo: 0, hi: 1}]\n",
-                          "s.yaml");
+v1::StudySpec Minimal(const std::string& engine,
+                      const std::string& nsga2 =
+                          "nsga2: {objectives: [{metric: f1, sense: minimize}, "
+                          "{metric: f2, sense: maximize}]}\n") {
+  auto loaded =
+      ParseSpec("engine: " + engine +
+                    "\npopulation: 12\ngenerations: 3\nobjective: {name: analytic.sphere}\n"
+                    "bounds: [{name: a, lo: 0, hi: 1}, {name: b, lo: 0, hi: 1}]\n" +
+                    (engine == "nsga2" ? nsga2 : ""),
+                "s.yaml");
   EXPECT_TRUE(loaded.ok()) << loaded.status();
   ApplyDefaults(&loaded->spec);
   return loaded->spec;
@@ -36,20 +42,57 @@ TEST(EngineKinds, EveryKindValidatesAndMakesItsEngine) {
     EXPECT_FALSE((*engine)->Ask().empty()) << k.name;
     EXPECT_GE(k.evaluations_per_generation(spec, 12), 1);
   }
-  EXPECT_EQ(EngineNames(), "ga, cmaes, sweep");
+  EXPECT_EQ(EngineNames(), "ga, cmaes, sweep, nsga2");
 }
 
 TEST(EngineKinds, UnknownEnginesAndForeignSectionsAreRefused) {
   v1::StudySpec spec = Minimal("ga");
   spec.set_engine("pso");
   EXPECT_THAT(std::string(ValidationStatus(Validate(spec)).message()),
-              HasSubstr("'pso' is not an engine; allowed: ga, cmaes, sweep"));
+              HasSubstr("'pso' is not an engine; allowed: ga, cmaes, sweep, nsga2"));
   v1::StudySpec cma = Minimal("cmaes");
   cma.mutable_ga()->set_elite(2);
   EXPECT_THAT(std::string(ValidationStatus(Validate(cma)).message()),
               HasSubstr("field 'ga' is set but the engine is 'cmaes'"));
   // The GA leaves its elite out of the evaluations of a generation.
   EXPECT_EQ(FindEngineKind("ga")->evaluations_per_generation(Minimal("ga"), 12), 2);
+}
+
+TEST(EngineKinds, Nsga2NeedsObjectivesEachMetricOnceWithASense) {
+  const auto message = [](const std::string& section) {
+    return std::string(ValidationStatus(Validate(Minimal("nsga2", section))).message());
+  };
+  EXPECT_THAT(message("nsga2: {crossover_eta: 10}\n"),
+              HasSubstr("field 'nsga2.objectives' has 0 entries; 2 to 8 metrics are needed"));
+  EXPECT_THAT(message("nsga2: {objectives: [{metric: f1, sense: minimize}, "
+                      "{metric: f1, sense: least}]}\n"),
+              AllOf(HasSubstr("field 'nsga2.objectives[1].metric' 'f1' is named twice"),
+                    HasSubstr("field 'nsga2.objectives[1].sense' = 'least' is not one of "
+                              "maximize, minimize")));
+  EXPECT_THAT(message("nsga2: {objectives: [{metric: f1, sense: minimize}, "
+                      "{metric: f2, sense: maximize}], mutation_eta: -1}\n"),
+              HasSubstr("field 'nsga2.mutation_eta' = -1 is out of range [0, 1000]"));
+  // Defaults: Deb's 0.9 and 20, and one mutation per child on average.
+  const v1::StudySpec spec = Minimal("nsga2");
+  EXPECT_EQ(spec.nsga2().crossover_rate(), 0.9);
+  EXPECT_EQ(spec.nsga2().mutation_rate(), 0.5);
+}
+
+TEST(EngineKinds, Nsga2ObjectivesComeFromTheMetricsHigherIsBetter) {
+  const v1::StudySpec spec = Minimal("nsga2");
+  v1::Evaluation e;
+  e.set_valid(true);
+  (*e.mutable_metrics())["f1"] = 2;
+  (*e.mutable_metrics())["f2"] = 3;
+  std::vector<double> out;
+  ASSERT_TRUE(ObjectivesOf(spec, e, &out).ok());
+  EXPECT_EQ(out, (std::vector<double>{-2, 3}));  // f1 is minimised
+  e.mutable_metrics()->erase("f2");
+  EXPECT_THAT(std::string(ObjectivesOf(spec, e, &out).message()),
+              HasSubstr("metric 'f2' (nsga2.objectives[1]) was not reported"));
+  e.set_valid(false);
+  EXPECT_TRUE(ObjectivesOf(spec, e, &out).ok());
+  EXPECT_TRUE(out.empty());
 }
 
 }  // namespace

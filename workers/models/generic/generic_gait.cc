@@ -187,6 +187,7 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
     }
     if (i > settle_steps) {  // the state after a measured step
       if (meter) meter->Step(w.actuator_torques(), w.actuator_rates(), w.timestep());
+      r.measured_s += w.timestep();
       airborne += w.ground_contacts() == 0;
       r.piston_work_j += w.last_piston_work();
       contacts_known = contacts_known && w.ground_contacts() >= 0;
@@ -212,7 +213,6 @@ GaitResult EvaluateGait(const robots::RobotDescriptor& d, const ParamValues& v,
   if (meter) {
     r.electrical = true;
     r.electrical_energy_j = meter->energy_j();
-    r.measured_s = meter->seconds();
   }
   r.distance_per_cycle_m = r.travel_m / measured;
   return r;

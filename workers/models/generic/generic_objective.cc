@@ -113,6 +113,7 @@ objectives::EvalResult RobotDistanceObjective::Evaluate(const objectives::EvalIn
     if (g.measured_s > 0) r.metrics["electrical_power_w"] = g.electrical_energy_j / g.measured_s;
     if (g.travel_m > 0) r.metrics["electrical_cost_of_transport"] = electrical_cot;
   }
+  if (g.measured_s > 0) r.metrics["speed_m_s"] = g.travel_m / g.measured_s;
   if (o.duration_s > 0) {
     r.fitness = g.travel_m;
     r.metrics["travel"] = g.travel_m;
