@@ -2,7 +2,7 @@
 """Concealed gap-finder cases for robots on the generic builder (issue 27): each paper's own
 suspects, hidden in recordings made by a reference that is not the model diagnosed.
 
-For a robot (--robot walker | tigrillo) and each of its cases (CASES below), three
+For a robot (--robot walker | tigrillo | go2_castors) and each of its cases (CASES below), three
 recordings (two training gaits, one held out) are simulated by `gaitforge-sim trajectory
 --robot NAME` on a REFERENCE: the same descriptor stepped 4 times finer with a softer
 ground contact (REF), plus the case's concealed effect. Each CSV is then disguised as a
@@ -96,7 +96,38 @@ ROBOTS = {
             ("lag-{}", "actuator.lag", {"effect.actuator_lag_s": 0.05}),
         ],
     },
+    # leg_gait genes: T s, stance share, lift m, speed m/s, height m, load share, lr, fh.
+    # Trots (0.5 to 0.7 s, on the feet at 0.28 to 0.31 m) and slides (0.8 s, on the castors
+    # at 0.10 to 0.12 m, the feet carrying 30 to 40%) in every set. Recorded as paper 002's
+    # robot records: joint angles, the motors' torques (its currents times gear and Kt) and
+    # the body's pose; the joint rates stay out (RECORD).
+    "go2_castors": {
+        "settle": 1, "cycles": 3, "rate": 50,
+        "record": (".angle", ".torque", "torso."),
+        "spec": {"channels": ",".join(
+            [f"{j}_{leg}.angle" for leg in ("fr", "fl", "rr", "rl") for j in ("hip", "thigh", "calf")]
+            + ["torso.x", "torso.y", "torso.z"])},
+        "sets": {
+            1: {"a": "0.6,0.5,0.08,0.25,0.30,1.0,0.5,0.5", "b": "0.8,0.6,0.03,0.16,0.10,0.3,0.0,0.5",
+                "c": "0.6,0.5,0.06,0.2,0.28,1.0,0.5,0.5"},
+            2: {"a": "0.5,0.5,0.07,0.3,0.29,1.0,0.5,0.5", "b": "0.7,0.55,0.08,0.15,0.31,1.0,0.5,0.5",
+                "c": "0.8,0.6,0.03,0.22,0.10,0.3,0.0,0.5"},
+            3: {"a": "0.65,0.5,0.09,0.2,0.30,1.0,0.5,0.5", "b": "0.8,0.6,0.04,0.28,0.12,0.4,0.0,0.5",
+                "c": "0.55,0.5,0.07,0.3,0.30,1.0,0.5,0.5"},
+        },
+        "cases": [
+            # Paper 002's reality gap: a torque factor on the motors (0.6: gains and limits
+            # at 60%), and Coulomb plus viscous joint friction (0.8 N m and 0.3 N m s/rad
+            # against the model's 0 and 0.015).
+            ("torque-{}", "motor.torque_factor",
+             {"motor.kp_nm_per_rad": 18.0, "motor.kd_nms_per_rad": 0.6,
+              "motor.hip_max_torque_nm": 14.22, "motor.calf_max_torque_nm": 27.258}),
+            ("friction-{}", "joint.friction",
+             {"joint.friction_nm": 0.8, "joint.damping_nms_per_rad": 0.3}),
+        ],
+    },
 }
+TORQUE_NOISE_NM, TORQUE_OFFSET_NM = 0.05, 0.05  # a current sensor's 0.05 A noise, times gear and Kt
 
 
 def simulate(sim, robot, spec, genes, set_text, out_csv, engine="ode"):
@@ -116,17 +147,28 @@ def travel(path):
     return float(data[-1, col] - data[0, col])
 
 
-def disguise(src_csv, dst_csv, seed):
-    """Noise, offsets, a time offset and dropped rows; a sidecar that names nothing."""
+def sensor_error(name):
+    """(offset bound, noise sd) of a channel by its kind."""
+    if name.endswith(".angle"):
+        return ANGLE_OFFSET_RAD, ANGLE_NOISE_RAD
+    if name.endswith(".torque"):
+        return TORQUE_OFFSET_NM, TORQUE_NOISE_NM
+    return MARKER_OFFSET_M, MARKER_NOISE_M
+
+
+def disguise(src_csv, dst_csv, seed, record=()):
+    """Noise, offsets, a time offset and dropped rows; a sidecar that names nothing. With
+    `record`, only the channels whose names hold one of its parts are kept."""
     rng = np.random.default_rng(seed)
     header, data = read_csv(src_csv)
+    if record:
+        keep = [0] + [j for j, h in enumerate(header) if j and any(p in h for p in record)]
+        header, data = [header[j] for j in keep], data[:, keep]
     n = len(data)
     out = data.copy()
     out[:, 0] += TIME_SHIFT_S
     for j, name in enumerate(header[1:], start=1):
-        angle = name.endswith(".angle")
-        offset = ANGLE_OFFSET_RAD if angle else MARKER_OFFSET_M
-        noise = ANGLE_NOISE_RAD if angle else MARKER_NOISE_M
+        offset, noise = sensor_error(name)
         out[:, j] += rng.uniform(-offset, offset) + rng.normal(0.0, noise, n)
     n_drop = int(round(DROP_FRACTION * (n - 2)))
     dropped = set(int(i) for i in rng.choice(np.arange(1, n - 1), size=n_drop, replace=False))
@@ -188,11 +230,12 @@ def main():
                 simulate(args.sim, args.robot, spec, genes, ref, null, args.engine)
                 simulate(args.sim, args.robot, spec, genes, "", model)
                 rel = f"{split}/gait-{g}.csv"
-                disguise(raw, os.path.join(case_dir, rel), seed * 10 + gi)
+                disguise(raw, os.path.join(case_dir, rel), seed * 10 + gi, spec.get("record", ()))
                 files[split].append(rel)
                 rows.append((case, g, travel(raw), travel(null), travel(model)))
             with open(os.path.join(case_dir, "case.json"), "w") as f:
-                f.write(json.dumps({"robot": args.robot, **files}, indent=2) + "\n")
+                extra = {"spec": spec["spec"]} if "spec" in spec else {}
+                f.write(json.dumps({"robot": args.robot, **files, **extra}, indent=2) + "\n")
             answers[case] = {"effect": truth, "params": overrides, "reference": ref,
                              "engine": args.engine, "gait_set": gait_set}
     with open(os.path.join(out_dir, "answers.sealed.json"), "w") as f:

@@ -50,6 +50,29 @@ absl::Status CheckParams(const v1::DiagnosisSpec& d) {
   return absl::OkStatus();
 }
 
+// The diagnosis's own step must leave every numeric variant's step (fits.h) inside the
+// robot's simulation.timestep_s range: otherwise the first weighting fails minutes in.
+absl::Status CheckTimestep(const v1::DiagnosisSpec& d) {
+  auto robot = RobotOf(d);
+  if (!d.has_timestep_ms() || !robot.ok()) return absl::OkStatus();
+  const robots::Parameter* h = (*robot)->FindParameter(kTimestepParam);
+  if (h == nullptr) return absl::OkStatus();
+  const std::string prefix = std::string(kTimestepParam) + "=";
+  double largest = 0, smallest = INFINITY;
+  for (const std::string& v : NumericVariants(d)) {
+    if (v.rfind(prefix, 0) != 0) continue;
+    largest = std::max(largest, std::stod(v.substr(prefix.size())));
+    smallest = std::min(smallest, std::stod(v.substr(prefix.size())));
+  }
+  if (largest <= h->hi && smallest >= h->lo) return absl::OkStatus();
+  const double ms = d.timestep_ms();
+  return absl::InvalidArgumentError(absl::StrCat(
+      "field 'timestep_ms': ", ms, " ms puts the numeric variants' steps at ", 1e3 * smallest,
+      " to ", 1e3 * largest, " ms, outside ", (*robot)->name, "'s ", kTimestepParam, " range [",
+      1e3 * h->lo, ", ", 1e3 * h->hi, "] ms; allowed here: ", ms * h->lo / smallest, " to ",
+      ms * h->hi / largest, " ms"));
+}
+
 absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.training_size() == 0)
     return absl::InvalidArgumentError("field 'training': at least one recording is required");
@@ -129,6 +152,7 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.has_timestep_ms() && !(d.timestep_ms() >= 0.05 && d.timestep_ms() <= 2))
     return absl::InvalidArgumentError(absl::StrCat("field 'timestep_ms': ", d.timestep_ms(),
                                                    " is out of range [0.05, 2] ms"));
+  if (absl::Status s = CheckTimestep(d); !s.ok()) return s;
   if (d.weighting() != "equal" && d.weighting() != "floor")
     return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
                                                    "' is not one of equal, floor"));

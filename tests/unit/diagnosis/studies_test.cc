@@ -210,6 +210,17 @@ TEST(NumericsFirst, ChoosesAFinerStepAndTheWholeDiagnosisMovesToIt) {
   EXPECT_NE(Validate(d).message().find("field 'timestep_ms': 5 is out of range [0.05, 2] ms"),
             std::string::npos)
       << Validate(d);
+  // A step whose numeric variants (up to 1.25 times it) leave the robot's range is refused
+  // before any fit, with the steps that are allowed.
+  d.set_timestep_ms(2);
+  EXPECT_NE(Validate(d).message().find(
+                "field 'timestep_ms': 2 ms puts the numeric variants' steps at 1 to 2.5 ms, "
+                "outside caterpillar's simulation.timestep_s range [0.05, 2] ms; allowed here: "
+                "0.1 to 1.6 ms"),
+            std::string::npos)
+      << Validate(d);
+  d.set_timestep_ms(1.6);
+  EXPECT_TRUE(Validate(d).ok()) << Validate(d);
 }
 
 // An effect whose parameter is a base parameter would be fitted twice: the default

@@ -221,5 +221,28 @@ TEST_F(Go2Test, SlidingCostsLessBatteryEnergyPerMetreThanTrotting) {
       << power(slide) << " W)";
 }
 
+// Paper 002's reality gap as the robot's own suspects (the gap finder tries them beside its
+// catalog): a torque factor on the motors (scale.motor_torque, their PD gains and limits)
+// and Coulomb plus viscous joint friction. Either one costs the trot travel.
+TEST_F(Go2Test, PaperTwosRealityGapIsItsSuspectsAndEachCostsTravel) {
+  ASSERT_EQ(Go2().suspects.size(), 2u);
+  EXPECT_EQ(Go2().suspects[0].id, "motor.torque_factor");
+  EXPECT_EQ(Go2().suspects[1].id, "joint.friction");
+  const std::vector<double> trot = {0.6, 0.5, 0.08, 0.25, 0.30, 1, 0.5, 0.5};
+  const auto travel = [&](const std::vector<std::pair<std::string, double>>& set) {
+    ParamValues v(Go2());
+    for (const auto& [name, value] : set) EXPECT_TRUE(v.Set(name, value).ok()) << name;
+    const auto r = SimulateChannels(Go2(), v, trot, 4, 50);
+    EXPECT_TRUE(r.valid) << r.reason;
+    const auto x = Column(r, "torso.x");
+    return x.back() - x.front();
+  };
+  const double nominal = travel({});
+  EXPECT_LT(travel({{"scale.motor_torque", 0.6}}), nominal - 0.03) << nominal;
+  EXPECT_LT(travel({{"joint.friction_nm", 0.8}, {"joint.damping_nms_per_rad", 0.3}}),
+            nominal - 0.005)
+      << nominal;
+}
+
 }  // namespace
 }  // namespace gaitforge::generic
