@@ -114,16 +114,16 @@ absl::StatusOr<std::vector<Channel>> ChosenChannels(const recording::Recording& 
 }
 
 // Shape error of `channels` between the recording and the simulation, averaged over the
-// cycles [kb, ke) (sim time origin 0, recording origin -offset).
+// cycles [kb, ke) from recording time `origin` (simulated time origin + offset).
 ShiftedError ShapeError(const recording::Recording& rec, const Trajectory& sim,
                         const std::vector<Channel>& channels, double period, int bins,
-                        double offset, int64_t kb, int64_t ke, int max_shift, Metric metric,
-                        double* real_rms = nullptr) {
+                        double origin, double offset, int64_t kb, int64_t ke, int max_shift,
+                        Metric metric, double* real_rms = nullptr) {
   Signals real, simulated;
   for (const Channel& c : channels) {
-    real.push_back(PeriodAverage(rec.t, rec.columns[c.column], period, bins, -offset, kb, ke));
+    real.push_back(PeriodAverage(rec.t, rec.columns[c.column], period, bins, origin, kb, ke));
     simulated.push_back(
-        PeriodAverage(sim.t, sim.columns[c.sim], period, bins, 0.0, kb, ke, max_shift));
+        PeriodAverage(sim.t, sim.columns[c.sim], period, bins, origin + offset, kb, ke, max_shift));
   }
   if (real_rms) {
     double sum = 0;
@@ -148,6 +148,7 @@ struct Context {
   std::vector<Channel> channels, x_channels;
   double period, offset, dt, settle_t;
   int bins;
+  double origin;  // recording time where cycle 0 starts (RecordedCycles)
   int64_t kb, ke;
   Comparison out;
 
@@ -171,10 +172,10 @@ struct Context {
 void Distance(Context& c, double shift_s) {
   if (c.kb >= c.ke || c.x_channels.empty()) return;
   std::vector<double> t, real_x, sim_x;
-  const double lo = c.kb * c.period - 1e-9, hi = c.ke * c.period + 1e-9;
+  const double lo = c.origin + c.kb * c.period - 1e-9, hi = c.origin + c.ke * c.period + 1e-9;
   for (size_t j = 0; j < c.rec.t.size(); ++j) {
+    if (c.rec.t[j] < lo || c.rec.t[j] > hi) continue;
     const double ts = c.rec.t[j] + c.offset;
-    if (ts < lo || ts > hi) continue;
     double r = 0, m = 0;
     for (const Channel& ch : c.x_channels) {
       r += c.rec.columns[ch.column][j];
@@ -194,10 +195,11 @@ void Distance(Context& c, double shift_s) {
 absl::Status Pointwise(Context& c) {
   std::vector<double> times;
   Signals real(c.channels.size());
+  // Which samples are compared depends on the recording alone, never on the fitted offset.
   const double lo = c.settle_t + c.s.max_shift * c.dt, hi = c.sim.t.back() - c.s.max_shift * c.dt;
   for (size_t j = 0; j < c.rec.t.size(); ++j) {
     const double ts = c.rec.t[j] + c.offset;
-    if (ts < lo || ts > hi) continue;
+    if (c.rec.t[j] < lo || ts > hi) continue;
     times.push_back(ts);
     for (size_t k = 0; k < c.channels.size(); ++k)
       real[k].push_back(c.rec.columns[c.channels[k].column][j]);
@@ -231,8 +233,8 @@ absl::Status Stats(Context& c) {
   if (!z.empty() && c.s.z_weight > 0) {
     const int shift = std::min(c.s.max_shift, c.bins / 2);
     double rms = 0;
-    const auto best = ShapeError(c.rec, c.sim, z, c.period, c.bins, c.offset, c.kb, c.ke, shift,
-                                 c.s.metric, &rms);
+    const auto best = ShapeError(c.rec, c.sim, z, c.period, c.bins, c.origin, c.offset, c.kb, c.ke,
+                                 shift, c.s.metric, &rms);
     z_term = c.s.z_weight * best.error / std::max(rms, 1e-6);
     c.out.shift = best.shift;
     c.out.time_shift_s = best.shift * c.period / c.bins;
@@ -274,7 +276,7 @@ absl::Status Accelerations(Context& c) {
   if (c.s.window_s > 0) end = std::min<int64_t>(end, std::llround(c.s.window_s / c.dt) + 1);
   // A gait's settle cycles are left out as in the other modes (settle_t is 0 for a playback).
   const int64_t begin = std::max<int64_t>(
-      kSavitzkyGolayHalfWindow, static_cast<int64_t>(std::ceil((c.settle_t - c.offset - t0) / c.dt - 1e-9)));
+      kSavitzkyGolayHalfWindow, static_cast<int64_t>(std::ceil((c.settle_t - t0) / c.dt - 1e-9)));
   if (end - begin < 1)
     return absl::InvalidArgumentError(absl::StrCat(
         "error = acceleration compares samples with ", kSavitzkyGolayHalfWindow,
@@ -316,6 +318,20 @@ absl::Status Accelerations(Context& c) {
   c.out.error = best;
   c.out.time_shift_s = c.out.shift * c.dt;
   return absl::OkStatus();
+}
+
+// The recording's whole gait cycles, counted from its first sample (cycle k starts at
+// recording time t_first + k period), from the first that starts after `settle` periods.
+// They depend on the recording alone: were they placed by the fitted time offset, a fit
+// could win an extra cycle and with it the noise that averaging one more cycle removes
+// (a 59 ms command delay "found" on a noisy null did exactly that).
+std::pair<int64_t, int64_t> RecordedCycles(const recording::Recording& rec, double period, int bins,
+                                           int settle) {
+  const double t0 = rec.t.front();
+  const auto [kb, ke] = WholeCycles(t0, rec.t.back(), period, bins, t0);
+  const double tol = 1e-6 / bins;  // in cycles, as WholeCycles
+  const auto first = static_cast<int64_t>(std::ceil(settle - t0 / period - tol));
+  return {std::max(kb, first), ke};
 }
 
 absl::Status CheckShape(const recording::Recording& rec) {
@@ -405,10 +421,10 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
   auto channels = ChosenChannels(rec, sim, s);
   if (!channels.ok()) return channels.status();
   const int bins = periodic ? BinsPerPeriod(period, dt) : 0;
-  auto [kb, ke] = periodic ? WholeCycles(rec.t.front(), rec.t.back(), period, bins, -offset)
-                           : std::pair<int64_t, int64_t>{0, 0};
-  Context c{rec, sim, s, std::move(*channels), {}, period, offset, dt, settle_t, bins,
-            std::max<int64_t>(kb, s.settle_cycles), ke, {}};
+  const auto [kb, ke] = periodic ? RecordedCycles(rec, period, bins, s.settle_cycles)
+                                 : std::pair<int64_t, int64_t>{0, 0};
+  Context c{rec, sim,      s,    std::move(*channels), {}, period, offset,
+            dt,  settle_t, bins, rec.t.front(),        kb, ke,     {}};
   c.out.simulated_s = run.simulated_s;
   c.out.period_s = period;
   for (size_t k = 0; k < rec.channels.size(); ++k) {
@@ -427,8 +443,8 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
   if (s.mode == Mode::kShape) {
     if (c.kb >= c.ke) return c.NoCycles();
     const int shift = std::min(s.max_shift, bins / 2);
-    const auto best =
-        ShapeError(rec, sim, c.channels, period, bins, offset, c.kb, c.ke, shift, s.metric);
+    const auto best = ShapeError(rec, sim, c.channels, period, bins, c.origin, offset, c.kb, c.ke,
+                                 shift, s.metric);
     c.out.error = best.error;
     c.out.shift = best.shift;
     c.out.time_shift_s = best.shift * period / bins;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -200,6 +201,33 @@ TEST(CaterpillarCalibration, TimeOffsetGeneAlignsTheClocks) {
   EXPECT_LT(r.metrics.at("error"), 1e-9);
   EXPECT_EQ(r.metrics.at("best_shift_0"), 0);
   EXPECT_NEAR(r.metrics.at("offset_x"), kOffsetX, 1e-9);
+}
+
+// With noise on every marker, the compared cycles (shape) and samples (pointwise) are the
+// recording's own: moving the time offset gene by whole samples, which the shift search
+// undoes exactly, must leave the error as it is. Were the cycles placed by the offset, one
+// offset would average one cycle more and win the noise that removes.
+TEST(CaterpillarCalibration, ComparedCyclesDoNotDependOnTheTimeOffset) {
+  auto noisy = std::make_shared<recording::Recording>(*TrueRecording());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (auto& col : noisy->columns)
+    for (double& x : col) x += noise(rng);
+  for (const std::string error : {"shape", "pointwise"}) {
+    std::vector<double> errors;
+    for (int k = -3; k <= 3; ++k) {
+      objectives::EvalInput in = Input(8.8, 1.0, error);
+      in.recordings = {noisy};
+      in.gene_names.push_back(calibration::kTimeOffsetGene);
+      in.genes.push_back(k * kDt);
+      const auto r = Eval(in);
+      ASSERT_TRUE(r.valid) << r.reason;
+      EXPECT_EQ(r.metrics.at("best_shift_0"), kShiftSamples - k) << error << " offset " << k;
+      errors.push_back(r.metrics.at("error"));
+    }
+    EXPECT_GT(errors[0], 1e-4) << error;  // the noise shows
+    for (double e : errors) EXPECT_NEAR(e, errors[0], 1e-9 * errors[0]) << error;
+  }
 }
 
 TEST(CaterpillarCalibration, StatsModeMatchesAtTrueParameters) {
