@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sqlite3.h>
 #include <stdio.h>
 #include <sys/socket.h>
@@ -176,6 +177,14 @@ void LocalCluster::StopWorkers() {
 
 void LocalCluster::StopCoordinator() {
   if (coordinator_ > 0) cli::Stop(coordinator_, 10);
+  coordinator_ = -1;
+}
+
+void LocalCluster::KillCoordinator() {
+  if (coordinator_ > 0) {
+    kill(coordinator_, SIGKILL);
+    waitpid(coordinator_, nullptr, 0);
+  }
   coordinator_ = -1;
 }
 

@@ -47,6 +47,8 @@ class LocalCluster {
   void StartWorkers(int n, int threads = 1, const std::vector<std::string>& extra_flags = {});
   void StopWorkers();
   void StopCoordinator();
+  // SIGKILL: the coordinator dies at once, as on a lost node.
+  void KillCoordinator();
   const std::string& target() const { return target_; }
   int metrics_port() const { return metrics_port_; }
   bool ok() const { return coordinator_ > 0; }

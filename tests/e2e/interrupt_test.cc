@@ -137,5 +137,34 @@ TEST_F(Interrupt, ALostCoordinatorAndCtrlCSayHowToContinue) {
             "completed|100|");
 }
 
+// A worker told to stop (SIGTERM) finishes the batch in hand for its coordinator; when
+// the coordinator is gone, nobody would take the results, so it leaves the rest of the
+// batch unevaluated (their leases expire) instead of simulating on for nothing.
+TEST(Drain, AWorkerWhoseCoordinatorIsGoneAbandonsItsBatch) {
+  TempDir dir;
+  LocalCluster cluster(dir.path(), dir.File("r.db"), {"--metrics-listen", "127.0.0.1:0"});
+  ASSERT_TRUE(cluster.ok());
+  // One thread, a first batch of 4 jobs of 1 s each.
+  WriteFile(dir.File("slow.yaml"),
+            "name: slow\nseed: 3\npopulation: 8\ngenerations: 2\nobjective:\n"
+            "  name: analytic.rastrigin\n  params: {work_us: 1000000}\nga: {elite: 2}\n");
+  ASSERT_EQ(cluster.Cli("submit " + dir.File("slow.yaml")).exit_code, 0);
+  cluster.StartWorkers(1);
+  bool leased = false;
+  for (int i = 0; i < 600 && !leased; ++i) {  // the bound only stops a hung test
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const std::string m = HttpGet(cluster.metrics_port(), "/metrics");
+    std::smatch hit;
+    leased = std::regex_search(m, hit, std::regex(R"(\ngaitforge_leases_total ([0-9.e+]+))")) &&
+             std::stod(hit[1]) > 0;
+  }
+  ASSERT_TRUE(leased);
+  cluster.KillCoordinator();
+  cluster.StopWorkers();
+  const std::string log = ReadFile(dir.File("w0.log"));
+  EXPECT_NE(log.find("the coordinator is gone"), std::string::npos) << log;
+  EXPECT_TRUE(std::regex_search(log, std::regex("left [1-9][0-9]* of 4 jobs unevaluated"))) << log;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

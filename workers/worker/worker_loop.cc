@@ -106,6 +106,10 @@ class WorkerLoop {
   v1::WorkerInfo info_;
   std::atomic<int> lease_ms_{10000};
   std::atomic<bool> holding_{false}, stop_heartbeat_{false};
+  // Draining, and the coordinator stopped answering heartbeats: nobody would take the
+  // batch's results, so its unstarted jobs are skipped and it is not reported (its leases
+  // expire on a restarted coordinator). Set by the heartbeat thread.
+  std::atomic<bool> orphaned_{false};
   std::mutex lease_mu_;
   // The pending call that waits for jobs (a Lease, or a Report asking for the next
   // batch), which a drain cancels; guarded by lease_mu_.
@@ -205,13 +209,18 @@ bool WorkerLoop::FillDescriptors(v1::LeaseResponse& lease) {
 // thread cancels a pending long-poll Lease as soon as a drain is requested.
 void WorkerLoop::HeartbeatLoop() {
   auto last = Clock::now();
+  bool drain_seen = false;
   while (!stop_heartbeat_.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    if (drain_.load()) {
+    const bool draining = drain_.load();
+    if (draining) {
       std::lock_guard<std::mutex> l(lease_mu_);
       if (lease_ctx_) lease_ctx_->TryCancel();
     }
-    if (Clock::now() - last < std::chrono::milliseconds(HeartbeatIntervalMs(lease_ms_.load())))
+    const bool now = draining && !drain_seen;  // a drain checks the coordinator at once
+    drain_seen = draining;
+    if (!now &&
+        Clock::now() - last < std::chrono::milliseconds(HeartbeatIntervalMs(lease_ms_.load())))
       continue;
     last = Clock::now();
     if (!holding_.load()) continue;
@@ -222,6 +231,13 @@ void WorkerLoop::HeartbeatLoop() {
     grpc::Status s = Stub()->Heartbeat(&ctx, req, &resp);
     if (s.ok()) lease_ms_ = resp.lease_ms();
     else spdlog::debug("heartbeat failed: {}", s.error_message());
+    const bool gone = s.error_code() == grpc::StatusCode::UNAVAILABLE ||
+                      s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED;
+    if (draining && gone && !orphaned_.exchange(true))
+      spdlog::warn(
+          "worker={} draining and the coordinator is gone ({}): the batch in hand is "
+          "abandoned",
+          info_.worker_id(), s.error_message());
   }
 }
 
@@ -294,12 +310,22 @@ v1::ReportRequest WorkerLoop::Evaluate(const v1::LeaseResponse& lease, const Fet
   const int n = lease.jobs_size();
   v1::ReportRequest report = StartReport(info_, lease);
   const auto t0 = Clock::now();
+  std::atomic<int> skipped{0};
   runner_.Run(n, [&](int i) {
+    if (orphaned_.load()) {
+      ++skipped;
+      return;
+    }
     const auto start = Clock::now();
     const objectives::EvalResult r = EvaluateJob(registry_, lease.jobs(i), fetched);
     FillResult(report.mutable_results(i), r,
                std::chrono::duration<double>(Clock::now() - start).count());
   });
+  if (orphaned_.load()) {
+    spdlog::warn("worker={} left {} of {} jobs unevaluated and reports none: their leases expire",
+                 info_.worker_id(), skipped.load(), n);
+    return report;
+  }
   const double batch_s = std::chrono::duration<double>(Clock::now() - t0).count();
   mean_eval_s_ = UpdateMeanEval(mean_eval_s_, batch_s, o_.threads, n);
   stats_.evaluated += n;
@@ -334,6 +360,11 @@ void WorkerLoop::SendReport(v1::ReportRequest report, v1::LeaseResponse* next) {
     if (fate == ReportFate::kDrop) {
       spdlog::error("report refused: {}", s.error_message());
       stats_.refused += n;
+      break;
+    }
+    if (orphaned_.load()) {
+      spdlog::warn("worker={} draining and the coordinator is gone: {} results not reported",
+                   info_.worker_id(), n);
       break;
     }
     if (drain_.load() && Clock::now() > give_up) {
@@ -388,7 +419,12 @@ int WorkerLoop::Run(WorkerStats* stats_out) {
       break;
     }
     v1::LeaseResponse next;
-    SendReport(Evaluate(lease, fetched), &next);
+    v1::ReportRequest report = Evaluate(lease, fetched);
+    if (orphaned_.load()) {
+      holding_ = false;
+      break;
+    }
+    SendReport(std::move(report), &next);
     holding_ = false;
     if (next.jobs_size() > 0) {
       if (!TakeLease(next)) break;
