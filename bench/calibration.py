@@ -45,7 +45,7 @@ def main():
     truth = ",".join(f"{k}={v[0]}" for k, v in PARAMS.items())
     with tempfile.TemporaryDirectory(prefix="gf-calib-") as d:
         for i, g in enumerate(GAITS):
-            subprocess.run([os.path.join(BIN, "gaitforge-sim"), "trajectory", "--genes", g,
+            subprocess.run([os.path.join(BIN, "gaitforge-sim"), "trajectory", "--robot", "caterpillar", "--genes", g,
                             "--cycles", "10", "--set", truth, "--out", f"{d}/r{i}.csv"],
                            check=True, capture_output=True)
         bounds = "\n".join(f"  - {{name: {k}, lo: {v[2]}, hi: {v[3]}}}" for k, v in PARAMS.items())

@@ -133,8 +133,8 @@ def rig_with(rig, overrides):
 
 
 def simulate(sim, genes, set_text, out_csv):
-    cmd = [sim, "trajectory", "--genes", genes, "--cycles", str(CYCLES), "--settle", str(SETTLE),
-           "--rate", str(RATE_HZ), "--threads", "1", "--out", out_csv]
+    cmd = [sim, "trajectory", "--robot", "caterpillar", "--genes", genes, "--cycles", str(CYCLES),
+           "--settle", str(SETTLE), "--rate", str(RATE_HZ), "--threads", "1", "--out", out_csv]
     if set_text:
         cmd += ["--set", set_text]
     r = subprocess.run(cmd, capture_output=True, text=True)

@@ -14,15 +14,12 @@ std::vector<GeneRange> GeneSpaceOf(const robots::RobotDescriptor& robot) {
 
 namespace {
 
-// The gene space of the built-in robot `name`'s controller.
-std::vector<GeneRange> GaitSpaceOf(const char* name) { return GeneSpaceOf(robots::Robot(name)); }
-
-// The analytic objectives' default space: the built-in caterpillar's gait ranges (13 genes,
-// the space they were benchmarked in), without its phase marks: they borrow its ranges, not
-// its circles.
+// The analytic objectives' default space: 13 genes x1..x13 in [0, 1] (the size of the
+// gait spaces they were first benchmarked beside; a function maps each gene relative to its
+// range, so only the number matters).
 std::vector<GeneRange> AnalyticSpace() {
-  std::vector<GeneRange> space = GaitSpaceOf("caterpillar");
-  for (auto& g : space) g.circular = false;
+  std::vector<GeneRange> space;
+  for (int i = 1; i <= 13; ++i) space.push_back({absl::StrCat("x", i), 0, 1});
   return space;
 }
 

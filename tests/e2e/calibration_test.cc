@@ -57,7 +57,7 @@ TEST(Calibration, RecoversKnownParametersAndImprovesTheFit) {
   for (const auto& [name, gait, cycles] :
        std::vector<std::tuple<std::string, std::string, int>>{
            {"a.csv", kGaitA, 12}, {"b.csv", kGaitB, 10}, {"c.csv", kGaitC, 10}}) {
-    auto r = RunCommand(sim + " trajectory --genes " + gait + " --cycles " +
+    auto r = RunCommand(sim + " trajectory --robot caterpillar --genes " + gait + " --cycles " +
                         std::to_string(cycles) + " --set " + kTruth + " --out " + dir.File(name));
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }

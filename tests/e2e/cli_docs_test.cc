@@ -93,5 +93,28 @@ TEST(CliDocs, TheSimulatorReadsTheModelFileItIsGiven) {
   EXPECT_EQ(r.err.find("unknown flag"), std::string::npos) << r.err;
 }
 
+// No robot is assumed: a simulation names its robot, and an evaluation against recordings
+// takes the one their sidecar names.
+TEST(CliDocs, TheSimulatorRunsTheRobotItIsToldOrTheRecordingsOne) {
+  TempDir dir;
+  auto r = RunCommand(Bin("gaitforge-sim") + " trajectory --genes 2,0.6,0.2,0.25 --out " +
+                      dir.File("a.csv"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--robot is required"), std::string::npos) << r.err;
+  r = RunCommand(Bin("gaitforge-sim") +
+                 " trajectory --robot walker --genes 2,0.4,0,0.1 "
+                 "--cycles 2 --settle 0 --out " +
+                 dir.File("w.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunCommand(Bin("gaitforge-sim") + " calibration-eval --recordings " + dir.File("w.csv"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"valid\": true"), std::string::npos) << r.out;
+  WriteFile(dir.File("w.csv.json"), "{\"robot\": \"no-such-robot\", \"command\": {}}");
+  r = RunCommand(Bin("gaitforge-sim") + " calibration-eval --recordings " + dir.File("w.csv"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("w.csv.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("give --robot"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

@@ -17,12 +17,12 @@
 #include "absl/strings/str_split.h"
 #include "robots/count_override.h"
 #include "robots/registry.h"
-
 #include "services/core/flags.h"
+#include "services/recording/recording.h"
 #include "workers/sim/ode_runtime.h"
 #include "workers/tools/generic_sim.h"
-#include "workers/tools/sim_tool.h"
 #include "workers/tools/sim_learn.h"
+#include "workers/tools/sim_tool.h"
 #include "workers/tools/sim_track.h"
 
 using namespace gaitforge;
@@ -41,6 +41,27 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
     return absl::NotFoundError(absl::StrCat("--robot ", arg,
                                             ": neither a descriptor file nor a built-in robot"));
   return std::make_pair(std::string(), std::string(robots::BuiltinText(arg)));
+}
+
+// The robot of a run without --robot: calibration-eval and learn-parameters take the one
+// the first recording's sidecar names (a built-in robot); every other command needs --robot.
+absl::StatusOr<std::string> DefaultRobot(const std::string& cmd, const std::string& recordings) {
+  const std::string first = recordings.substr(0, recordings.find(','));
+  if ((cmd != "calibration-eval" && cmd != "learn-parameters") || first.empty())
+    return absl::InvalidArgumentError(
+        "--robot is required: a built-in robot's name (gaitforge robots list) or a descriptor "
+        "file (docs/robots.md)");
+  std::ifstream in(first + ".json", std::ios::binary);
+  if (!in)
+    return absl::NotFoundError(absl::StrCat("cannot read ", first, ".json (the sidecar ",
+                                            "that names the robot; or give --robot)"));
+  std::stringstream text;
+  text << in.rdbuf();
+  auto robot = recording::SidecarRobot(text.str(), first + ".json");
+  if (!robot.ok())
+    return absl::InvalidArgumentError(
+        absl::StrCat(robot.status().message(), " (a robot that is only files: give --robot)"));
+  return *robot;
 }
 
 struct Args {
@@ -84,7 +105,7 @@ int RunSweep(const Args& a, const simtool::GenericRun& run) {
   return 0;
 }
 
-// Every command, on the robot --robot names (the caterpillar by default); an exit code.
+// Every command, on the robot --robot names (or the recordings' sidecar); an exit code.
 int Run(const Args& a) {
   auto text = RobotText(a.robot);
   if (!text.ok()) return Fail(text.status(), 2);
@@ -181,8 +202,9 @@ int main(int argc, char** argv) {
   a.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   core::Flags flags(
       "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track|learn-parameters [flags]",
-      "One-shot simulations of a robot on the generic builder (--robot; the caterpillar by\n"
-      "default), with the same model build as the workers.\n"
+      "One-shot simulations of a robot on the generic builder (--robot; calibration-eval and\n"
+      "learn-parameters default to the robot their first recording's sidecar names), with\n"
+      "the same model build as the workers.\n"
       "  trajectory    --genes G --out FILE.csv: the robot's channels over settle + measured\n"
       "                cycles from rest, as a recording CSV (+ .json); or --inputs IN.csv\n"
       "                --out FILE.csv: driven by recorded actuator inputs (a playback)\n"
@@ -197,8 +219,8 @@ int main(int argc, char** argv) {
       "                NET.json: paper 004's adaptive model (parameters fitted per playback\n"
       "                recording, an MLP from state to them), JSON");
   flags.Add("robot", &a.robot,
-            "the robot: a built-in's name or a descriptor file (docs/robots.md); default "
-            "caterpillar");
+            "the robot: a built-in's name or a descriptor file (docs/robots.md); required but "
+            "for calibration-eval and learn-parameters (default: the recordings' robot)");
   std::string count_text;
   flags.Add("count", &count_text,
             "another resolution of the robot: its counts NAME=N,... (docs/robots.md, \"Counts and "
@@ -207,8 +229,8 @@ int main(int argc, char** argv) {
   flags.Add("engine", &a.engine,
             "trajectory: ode (the studies' build) or mujoco (an independent build of the same "
             "descriptor, workers/models/mujoco/)");
-  flags.Add("genes", &a.genes, "the controller's genes, comma separated (the caterpillar: 13, "
-                               "a_T1..a_B3 d_T1..d_B3 T)");
+  flags.Add("genes", &a.genes,
+            "the controller's genes, comma separated, in its order (gaitforge robots show NAME)");
   flags.Add("out", &a.out, "trajectory: CSV file to write");
   flags.Add("inputs", &a.inputs,
             "trajectory: a CSV of t and every actuator's input (rod1.force, ...) that drives the "
@@ -222,7 +244,8 @@ int main(int argc, char** argv) {
   flags.Add("set", &a.set,
             "parameter overrides NAME=VALUE,... (names: docs/objectives.md, e.g. "
             "actuators.force_n, scale.link_stiffness); applied in order");
-  flags.Add("recordings", &a.recordings, "calibration-eval: recording CSVs, comma separated");
+  flags.Add("recordings", &a.recordings,
+            "calibration-eval, learn-parameters: recording CSVs, comma separated");
   flags.Add("error", &error_kind, "calibration-eval: shape, pointwise, stats or acceleration (default shape)");
   flags.Add("metric", &metric, "calibration-eval: rmse or mae (default rmse)");
   flags.Add("max-shift", &max_shift, "calibration-eval: max_shift_samples, 0..1000 (default 10)");
@@ -264,7 +287,12 @@ int main(int argc, char** argv) {
     return Fail(absl::InvalidArgumentError("--cycles in [1, 200], --settle in [0, 50], --rate in "
                                            "[1, 10000], --threads in [1, 256]"),
                 2);
-  if (a.robot.empty()) a.robot = params_path.empty() ? "caterpillar" : params_path;
+  if (a.robot.empty()) a.robot = params_path;
+  if (a.robot.empty()) {
+    auto robot = DefaultRobot(a.cmd, a.recordings);
+    if (!robot.ok()) return Fail(robot.status(), 2);
+    a.robot = *robot;
+  }
   for (const std::string& item :
        std::vector<std::string>(absl::StrSplit(count_text, ',', absl::SkipEmpty()))) {
     const std::vector<std::string> kv = absl::StrSplit(item, '=');

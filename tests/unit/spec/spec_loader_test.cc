@@ -26,9 +26,10 @@ TEST(SpecLoader, AGoodSpecLoadsWithDefaults) {
   EXPECT_EQ(loaded->spec.engine(), "ga");
   EXPECT_EQ(loaded->spec.ga().elite(), 10);
   EXPECT_DOUBLE_EQ(loaded->spec.ga().mutation_rate(), 0.10);
-  ASSERT_EQ(loaded->spec.bounds_size(), 13);  // the caterpillar gait space
-  EXPECT_EQ(loaded->spec.bounds(12).name(), "T");
-  EXPECT_DOUBLE_EQ(loaded->spec.bounds(12).lo(), 0.2);
+  ASSERT_EQ(loaded->spec.bounds_size(), 13);  // the analytic default: a unit box
+  EXPECT_EQ(loaded->spec.bounds(12).name(), "x13");
+  EXPECT_DOUBLE_EQ(loaded->spec.bounds(12).lo(), 0);
+  EXPECT_DOUBLE_EQ(loaded->spec.bounds(12).hi(), 1);
   EXPECT_DOUBLE_EQ(loaded->spec.objective().params().at("work_us"), 5);
 }
 
