@@ -29,14 +29,17 @@ using namespace gaitforge;
 
 namespace {
 
+// The whole file at `path` ("" when it cannot be read).
+std::string ReadWhole(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 // The descriptor a --robot names: a file's text, or a built-in robot's.
 absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string& arg) {
-  if (std::filesystem::is_regular_file(arg)) {
-    std::ifstream in(arg, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    return std::make_pair(arg, text.str());
-  }
+  if (std::filesystem::is_regular_file(arg)) return std::make_pair(arg, ReadWhole(arg));
   if (robots::FindRobot(arg) == nullptr)
     return absl::NotFoundError(absl::StrCat("--robot ", arg,
                                             ": neither a descriptor file nor a built-in robot"));
@@ -51,13 +54,10 @@ absl::StatusOr<std::string> DefaultRobot(const std::string& cmd, const std::stri
     return absl::InvalidArgumentError(
         "--robot is required: a built-in robot's name (gaitforge robots list) or a descriptor "
         "file (docs/robots.md)");
-  std::ifstream in(first + ".json", std::ios::binary);
-  if (!in)
+  if (!std::filesystem::is_regular_file(first + ".json"))
     return absl::NotFoundError(absl::StrCat("cannot read ", first, ".json (the sidecar ",
                                             "that names the robot; or give --robot)"));
-  std::stringstream text;
-  text << in.rdbuf();
-  auto robot = recording::SidecarRobot(text.str(), first + ".json");
+  auto robot = recording::SidecarRobot(ReadWhole(first + ".json"), first + ".json");
   if (!robot.ok())
     return absl::InvalidArgumentError(
         absl::StrCat(robot.status().message(), " (a robot that is only files: give --robot)"));
