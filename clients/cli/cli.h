@@ -11,6 +11,7 @@
 #include "absl/status/statusor.h"
 #include "gaitforge/v1/diagnosis.grpc.pb.h"
 #include "gaitforge/v1/study.grpc.pb.h"
+#include "services/diagnosis/plan.h"
 
 namespace gaitforge::cli {
 
@@ -214,6 +215,14 @@ int CmdDiagnoses(const GlobalOptions& g, const std::vector<std::string>& args);
 int CancelDiagnosis(Connection& conn, const std::string& id, const GlobalOptions& g);
 int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
                 int threads, const std::string& out_dir);
+// A diagnosis spec file, parsed, with defaults, checked (the robot from the recordings when
+// it names none); an exit code on failure, the reason on stderr.
+int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d);
+
+// `gaitforge diagnose plan SPEC --report FILE` (diagnose_plan.cc); `output`: the plan's JSON
+// ("": plan.json beside the report).
+int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args,
+                    const diagnosis::plan::Options& p, const std::string& output);
 // Starts local worker processes against target (logs next to the database).
 std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
                                      int threads);

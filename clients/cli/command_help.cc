@@ -85,9 +85,18 @@ std::vector<CommandHelp> Build() {
        "stored job (it calibrates the baseline, locates the mismatch, screens and refits the\n"
        "candidate effects, and decides found / none / ambiguous); waits for it, copies its\n"
        "report and figures into --out/NAME-diagnosis and prints it. The same spec again\n"
-       "returns the stored diagnosis, or takes an interrupted one up where it stopped.",
-       Connection({"workers", "threads", "out", "dashboard", "json"}),
-       "gaitforge diagnose examples/diagnosis-hose.yaml --workers 2"},
+       "returns the stored diagnosis, or takes an interrupted one up where it stopped.\n\n"
+       "gaitforge diagnose plan SPEC --report DIR/diagnosis.json: the recordings that would\n"
+       "decide between the diagnosis's leading explanations. Simulates candidate gaits (the\n"
+       "recorded ones longer and at other periods, random ones from the gene space) under\n"
+       "the baseline and each fitted explanation, and proposes the --propose gaits whose\n"
+       "channels part the most pairs by at least --decisive times the model's residual; the\n"
+       "JSON (genotypes, cycles, durations, separations) goes to --output or plan.json beside\n"
+       "the report. --workers: simulations at once.",
+       Connection({"workers", "threads", "out", "dashboard", "json", "report", "propose",
+                   "random", "rivals", "seed", "decisive", "output"}),
+       "gaitforge diagnose examples/diagnosis-hose.yaml --workers 2\n  gaitforge diagnose plan "
+       "examples/diagnosis-hose.yaml --report runs/plots/hose-diagnosis/diagnosis.json"},
       {"diagnoses", "",
        "the stored diagnoses: id, state, verdict, progress (docs/diagnosis.md)",
        "Lists every diagnosis in the database, oldest first; --json gives\n"

@@ -41,7 +41,11 @@ int main(int argc, char** argv) {
   std::string token_file;
   flags.Add("token-file", &token_file, "file holding the client token (else env GAITFORGE_TOKEN)");
   flags.Add("out", &out_dir, "plot/report/local: directory for figures");
-  flags.Add("output", &output, "trajectory/export: CSV file to write");
+  flags.Add("output", &output,
+            "trajectory/export: CSV file to write; diagnose plan: the plan's JSON (default: "
+            "plan.json beside --report)");
+  diagnosis::plan::Options plan;
+  diagnosis::plan::AddFlags(flags, &plan, "diagnose plan");
   flags.Add("sidecar", &sidecar, "recording add: the JSON sidecar (default FILE.csv.json)");
   std::string robot_file;
   flags.Add("robot", &robot_file,
@@ -115,6 +119,11 @@ int main(int argc, char** argv) {
   if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
+  if (cmd == "diagnose" && !args.empty() && args[0] == "plan") {
+    plan.threads = workers;
+    return cli::CmdDiagnosePlan(g, std::vector<std::string>(args.begin() + 1, args.end()), plan,
+                                output);
+  }
   if (cmd == "diagnose") return cli::CmdDiagnose(g, args, workers, threads, out_dir);
   if (cmd == "diagnosis") return cli::CmdDiagnosis(g, args, out_dir);
   if (cmd == "diagnoses") return cli::CmdDiagnoses(g, args);

@@ -18,6 +18,7 @@ enum class Purpose : uint64_t {
   kMutate = 4,      // per-gene mutation decisions and fresh values
   kEngine = 5,      // other engine decisions (CMA-ES sampling, restarts)
   kEnsemble = 6,    // robust evaluation's parameter samples (workers/objectives/ensemble.h)
+  kPlan = 7,        // random gaits a diagnosis plan proposes (services/diagnosis/plan.h)
 };
 
 class KeyedRng {

@@ -215,7 +215,9 @@ std::string WriteReport(RunState& s) {
       absl::StrJoin(runners, ", "), "], \"screening\": [", absl::StrJoin(screened, ", "),
       "], \"top\": ", s.d.top(), ", \"screening_tie\": ", Num(s.d.screening_tie()),
       ", \"refitted_singles\": ", s.singles, ", \"reused_fits\": ", s.reused,
-      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"structure\": ", Structure(s),
+      ", \"baseline_study_id\": ", JsonQuote(s.base.study_id), ", \"baseline\": {\"params\": ",
+      Params(s, s.base), ", \"train\": ", Num(s.base.train), ", \"held_out\": ", Num(s.base.held),
+      "}, \"structure\": ", Structure(s),
       ", \"numerics\": ", Numerics(s), ", \"resolution\": ", Resolution(s));
   absl::StrAppend(&json, ", \"unexplained_mismatch\": ", none.unexplained ? "true" : "false",
                   ", \"none_reading\": ", JsonQuote(none.words), ", \"numerics_note\": ",

@@ -14,6 +14,7 @@
 #include "google/protobuf/util/json_util.h"
 #include "services/diagnosis/locate.h"
 #include "services/diagnosis/range.h"
+#include "services/diagnosis/struct_fields.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::diagnosis {
@@ -22,11 +23,6 @@ namespace {
 using google::protobuf::Struct;
 using google::protobuf::Value;
 
-const Value& Field(const Struct& s, const std::string& k) {
-  static const Value null;
-  const auto it = s.fields().find(k);
-  return it == s.fields().end() ? null : it->second;
-}
 double N(const Struct& s, const std::string& k) {
   const Value& v = Field(s, k);
   return v.kind_case() == Value::kNumberValue ? v.number_value() : NAN;
@@ -167,6 +163,18 @@ std::string Verdict(const Struct& r) {
   return out;
 }
 
+// Whether the recordings left explanations the data could not tell apart: an ambiguous
+// verdict, or none named while a fit beat the baseline on the training data by the margin.
+bool Undecided(const Struct& r) {
+  if (S(r, "verdict") == "ambiguous") return true;
+  if (S(r, "verdict") != "none") return false;
+  const double margin = N(O(r, "rule"), "margin");
+  for (const auto& v : Field(r, "runners_up").list_value().values())
+    if (N(v.struct_value(), "delta_bic") < -margin && Field(v.struct_value(), "at_bound").list_value().values_size() == 0)
+      return true;
+  return false;
+}
+
 // Where it showed (the locate script's summary), the figures, near ties and runners-up.
 std::string Details(const Struct& r, const std::string& dir) {
   const Unit u = UnitOf(r);
@@ -216,6 +224,10 @@ std::string Details(const Struct& r, const std::string& dir) {
                               S(c, "why_not")));
   }
   absl::StrAppend(&out, "  report: ", dir, "/diagnosis.json\n");
+  if (Undecided(r))
+    absl::StrAppend(&out, "  the recordings that would decide: gaitforge diagnose plan SPEC --report ",
+                    dir, "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "
+                    "decides\")\n");
   return out;
 }
 

@@ -4,6 +4,7 @@
 //   wave          the travelling-wave baseline over periods (paper 000, Fig. 14)
 //   calibration-eval  errors of the model (with --set overrides) against recordings, and
 //                 the simulated markers of each recording's gait, for calibration reports
+//   plan          the gaits whose recordings would separate a diagnosis's explanations
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -22,6 +23,7 @@
 #include "workers/sim/ode_runtime.h"
 #include "workers/tools/generic_sim.h"
 #include "workers/tools/sim_learn.h"
+#include "workers/tools/sim_plan.h"
 #include "workers/tools/sim_tool.h"
 #include "workers/tools/sim_track.h"
 
@@ -46,11 +48,11 @@ absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string&
   return std::make_pair(std::string(), std::string(robots::BuiltinText(arg)));
 }
 
-// The robot of a run without --robot: calibration-eval and learn-parameters take the one
+// The robot of a run without --robot: calibration-eval, learn-parameters and plan take the one
 // the first recording's sidecar names (a built-in robot); every other command needs --robot.
 absl::StatusOr<std::string> DefaultRobot(const std::string& cmd, const std::string& recordings) {
   const std::string first = recordings.substr(0, recordings.find(','));
-  if ((cmd != "calibration-eval" && cmd != "learn-parameters") || first.empty())
+  if ((cmd != "calibration-eval" && cmd != "learn-parameters" && cmd != "plan") || first.empty())
     return absl::InvalidArgumentError(
         "--robot is required: a built-in robot's name (gaitforge robots list) or a descriptor "
         "file (docs/robots.md)");
@@ -70,6 +72,7 @@ struct Args {
   std::vector<std::pair<std::string, int>> counts;  // --count: another resolution of the robot
   simtool::TrackArgs track;
   simtool::LearnArgs learn;
+  simtool::PlanArgs plan;
   bool open_loop = false;
   double rate = 100;
   int cycles = 10, settle = 2, threads = 1;
@@ -162,6 +165,15 @@ int Run(const Args& a) {
     std::cout << *json << "\n";
     return 0;
   }
+  if (a.cmd == "plan") {
+    simtool::PlanArgs p = a.plan;
+    p.recordings = a.recordings;
+    p.options.threads = a.threads;
+    auto json = simtool::GenericPlan(run, p);
+    if (!json.ok()) return Fail(json.status(), 2);
+    std::cout << *json << "\n";
+    return 0;
+  }
   if (a.cmd == "trajectory" && !a.inputs.empty()) {
     if (a.out.empty()) return Fail(absl::InvalidArgumentError("trajectory needs --out FILE.csv"), 2);
     if (auto s = simtool::GenericPlayback(run, a.inputs, a.out); !s.ok())
@@ -201,7 +213,8 @@ int main(int argc, char** argv) {
   std::string params_path, error_kind, metric, max_shift;
   a.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   core::Flags flags(
-      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track|learn-parameters [flags]",
+      "gaitforge-sim trajectory|period-sweep|wave|calibration-eval|track|learn-parameters|plan "
+      "[flags]",
       "One-shot simulations of a robot on the generic builder (--robot; calibration-eval and\n"
       "learn-parameters default to the robot their first recording's sidecar names), with\n"
       "the same model build as the workers.\n"
@@ -217,7 +230,10 @@ int main(int argc, char** argv) {
       "                every control tick as CSV (--out)\n"
       "  learn-parameters --recordings A.csv,... --params P,... --features tip.x,... --out\n"
       "                NET.json: paper 004's adaptive model (parameters fitted per playback\n"
-      "                recording, an MLP from state to them), JSON");
+      "                recording, an MLP from state to them), JSON\n"
+      "  plan          --recordings A.csv,... --report diagnosis.json: the gaits whose\n"
+      "                recordings would separate the diagnosis's explanations, JSON\n"
+      "                (gaitforge diagnose plan runs it; docs/diagnosis.md)");
   flags.Add("robot", &a.robot,
             "the robot: a built-in's name or a descriptor file (docs/robots.md); required but "
             "for calibration-eval and learn-parameters (default: the recordings' robot)");
@@ -248,7 +264,9 @@ int main(int argc, char** argv) {
             "calibration-eval, learn-parameters: recording CSVs, comma separated");
   flags.Add("error", &error_kind, "calibration-eval: shape, pointwise, stats or acceleration (default shape)");
   flags.Add("metric", &metric, "calibration-eval: rmse or mae (default rmse)");
-  flags.Add("max-shift", &max_shift, "calibration-eval: max_shift_samples, 0..1000 (default 10)");
+  flags.Add("max-shift", &max_shift,
+            "calibration-eval: max_shift_samples, 0..1000 (default 10); plan: the time shifts (in "
+            "samples) a comparison of two explanations may absorb, 0..1000 (default 10)");
   flags.Add("options", &a.options,
             "calibration-eval: the objective's options NAME=VALUE;... (error, metric, channels)");
   flags.Add("objective-params", &a.params,
@@ -275,6 +293,10 @@ int main(int argc, char** argv) {
   flags.Add("evaluations", &a.learn.evaluations, "learn-parameters: playbacks per fit (5..100000, default 150)");
   flags.Add("epochs", &a.learn.epochs, "learn-parameters: MLP training epochs (default 5000)");
   flags.Add("hidden", &a.learn.hidden, "learn-parameters: hidden units (default 5, paper 004)");
+  diagnosis::plan::AddFlags(flags, &a.plan.options, "plan");
+  flags.Add("channels", &a.plan.channels,
+            "plan: compared channels, comma separated (default: every one the recordings and the "
+            "model both have)");
   flags.Add("out-dir", &a.out_dir, "calibration-eval: write each recording's simulated channels here");
   if (auto s = flags.Parse(argc, argv); !s.ok()) return Fail(s, 2);
   if (flags.help_requested() || flags.positional().size() != 1) {
@@ -301,6 +323,8 @@ int main(int argc, char** argv) {
       return Fail(absl::InvalidArgumentError("--count: expected NAME=N,... (a whole N), got '" + item + "'"), 2);
     a.counts.emplace_back(kv[0], n);
   }
+  if (a.cmd == "plan" && !max_shift.empty() && !absl::SimpleAtoi(max_shift, &a.plan.options.max_shift))
+    return Fail(absl::InvalidArgumentError("--max-shift: expected a whole number, got '" + max_shift + "'"), 2);
   // The named flags win over the same names in --options and --objective-params.
   if (!error_kind.empty()) a.options += ";error=" + error_kind;
   if (!metric.empty()) a.options += ";metric=" + metric;

@@ -32,11 +32,7 @@ std::string JsonEscape(const std::string& s) {
   return out;
 }
 
-namespace {
-
-// Runs fn(i) for i in [0, n) on `threads` threads (each initialised for ODE).
-template <typename F>
-void ParallelFor(int n, int threads, F fn) {
+void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
   std::atomic<int> next{0};
   std::vector<std::thread> pool;
   for (int t = 0; t < std::max(1, threads); ++t) {
@@ -47,8 +43,6 @@ void ParallelFor(int n, int threads, F fn) {
   }
   for (auto& t : pool) t.join();
 }
-
-}  // namespace
 
 absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string& csv_path,
                            const std::string& robot, const std::string& params_path,

@@ -1,6 +1,7 @@
 #pragma once
 // One-shot simulations of a robot for reports and exports (gaitforge-sim): the same model
 // and build as the workers, run on this machine, no coordinator involved.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,6 +21,9 @@ absl::Status WriteChannels(const calibration::Trajectory& tr, const std::string&
                            const std::vector<double>& genes, const std::string& note,
                            const std::vector<std::pair<std::string, double>>& overrides = {},
                            bool playback = false);
+
+// Runs fn(i) for i in [0, n) on `threads` threads (each initialised for ODE).
+void ParallelFor(int n, int threads, const std::function<void(int)>& fn);
 
 // `s` escaped for a JSON string.
 std::string JsonEscape(const std::string& s);

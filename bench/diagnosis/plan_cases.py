@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""The experiment that decides, closed on concealed cases: for a diagnosed case of a robot
+suite (bench/diagnosis/make_robot_cases.py), ask `gaitforge diagnose plan` which gaits
+would separate the diagnosis's explanations, record them on the case's own reference (the
+sealed answer's effect and numerics: the stand-in for the real robot running the proposed
+experiment), and write a new case that trains on the old recordings plus the proposed ones.
+Then diagnose it as any case (tests/diagnosis/run_suite.py --cases NAME+plan).
+
+    /usr/bin/python3 bench/diagnosis/plan_cases.py --suite tests/diagnosis/robots/walker \\
+        --case anisotropic-1 --results tests/diagnosis/robots/results/walker-h05b-session22.json \\
+        --timestep-ms 0.5 [--propose 2] [--random 12] [--out-suite DIR]
+
+The report is the case's entry in --results (run_suite.py --json-out). The new case goes to
+--out-suite (default: a temporary suite beside nothing, printed) as cases/CASE+plan, with its
+answer copied into that suite's answers.sealed.json; the plan itself as plan.json in it.
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from make_robot_cases import ROBOTS, disguise, simulate, overrides_text  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tests", "diagnosis"))
+from run_suite import spec_text  # noqa: E402
+
+
+def report_of(results, case):
+    with open(results) as f:
+        for r in json.load(f)["results"]:
+            if r.get("case") == case:
+                return r
+    sys.exit(f"plan_cases: no result for case {case} in {results}")
+
+
+def plan(bin_dir, suite, case, report, a, work):
+    """Runs gaitforge diagnose plan on the case's spec; returns the plan's JSON."""
+    case_dir = os.path.join(suite, "cases", case)
+    with open(os.path.join(case_dir, "case.json")) as f:
+        c = json.load(f)
+    extra = f"timestep_ms: {a.timestep_ms}\n" if a.timestep_ms else ""
+    spec = os.path.join(work, "diagnosis.yaml")
+    with open(spec, "w") as f:
+        f.write(spec_text(os.path.abspath(case_dir), c, 60, 240, extra=extra) + extra)
+    report_path = os.path.join(work, "diagnosis.json")
+    with open(report_path, "w") as f:
+        json.dump(report, f)
+    cmd = [os.path.join(bin_dir, "gaitforge"), "diagnose", "plan", spec, "--report", report_path,
+           "--propose", str(a.propose), "--random", str(a.random), "--workers", str(a.workers)]
+    words = subprocess.run(cmd, capture_output=True, text=True)
+    if words.returncode != 0:
+        sys.exit(f"plan_cases: {' '.join(cmd)} failed: {words.stderr.strip()}")
+    print(words.stdout, end="")
+    with open(os.path.join(work, "plan.json")) as f:
+        return c, json.load(f)
+
+
+def record(bin_dir, robot, answer, proposal, dst, seed):
+    """The proposed gait recorded on the case's reference, disguised as the suite's are."""
+    spec = dict(ROBOTS[robot], settle=0, cycles=proposal["cycles"])
+    genes = ",".join(repr(g) for g in proposal["gene_values"])
+    sets = ",".join(x for x in (answer["reference"], overrides_text(answer["params"])) if x)
+    with tempfile.TemporaryDirectory() as tmp:
+        raw = os.path.join(tmp, "raw.csv")
+        simulate(os.path.join(bin_dir, "gaitforge-sim"), robot, spec, genes, sets, raw)
+        disguise(raw, dst, seed, ROBOTS[robot].get("record", ()))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--suite", required=True)
+    ap.add_argument("--case", required=True)
+    ap.add_argument("--results", required=True, help="run_suite.py --json-out holding the case")
+    ap.add_argument("--timestep-ms", type=float, default=0, help="the diagnosis's timestep_ms")
+    ap.add_argument("--propose", type=int, default=2)
+    ap.add_argument("--random", type=int, default=12)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--out-suite", default="")
+    ap.add_argument("--bin", default=os.path.join(ROOT, "build", "bin"))
+    a = ap.parse_args()
+    with open(os.path.join(a.suite, "answers.sealed.json")) as f:
+        answer = json.load(f)[a.case]
+    out_suite = a.out_suite or tempfile.mkdtemp(prefix="gf-plan-suite-")
+    new_case = a.case + "+plan"
+    new_dir = os.path.join(out_suite, "cases", new_case)
+    with tempfile.TemporaryDirectory() as work:
+        c, p = plan(a.bin, a.suite, a.case, report_of(a.results, a.case), a, work)
+        os.makedirs(os.path.join(new_dir, "train"), exist_ok=True)
+        shutil.copy(os.path.join(work, "plan.json"), os.path.join(new_dir, "plan.json"))
+    for split in ("train", "held_out"):
+        for rel in c[split]:
+            os.makedirs(os.path.dirname(os.path.join(new_dir, rel)), exist_ok=True)
+            for ext in ("", ".json"):
+                shutil.copy(os.path.join(a.suite, "cases", a.case, rel + ext), os.path.join(new_dir, rel + ext))
+    for k, proposal in enumerate(p["plan"]):
+        rel = f"train/planned-{k + 1}.csv"
+        record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), 7000 + k)
+        c["train"].append(rel)
+    with open(os.path.join(new_dir, "case.json"), "w") as f:
+        f.write(json.dumps(c, indent=2) + "\n")
+    answers_path = os.path.join(out_suite, "answers.sealed.json")
+    answers = json.load(open(answers_path)) if os.path.exists(answers_path) else {}
+    answers[new_case] = answer
+    with open(answers_path, "w") as f:
+        f.write(json.dumps(answers, indent=2) + "\n")
+    print(f"wrote {os.path.relpath(new_dir)}: {len(c['train'])} training recordings "
+          f"({len(p['plan'])} planned), {len(c['held_out'])} held out")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

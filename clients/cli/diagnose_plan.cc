@@ -1,0 +1,128 @@
+// `gaitforge diagnose plan SPEC --report FILE`: the recordings that would separate a
+// diagnosis's leading explanations (docs/diagnosis.md, "Plan the experiment that decides").
+// Reads the spec and the diagnosis's report, and runs gaitforge-sim plan (the workers' own
+// model build) on the spec's recordings with the report's explanations; prints the plan in
+// words (--json: its JSON) and writes the JSON to --output (default: plan.json beside the
+// report).
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "clients/cli/cli.h"
+#include "clients/cli/processes.h"
+#include "services/diagnosis/plan.h"
+
+namespace gaitforge::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The spec's recordings as files (relative to the spec), comma separated; "" and a message
+// when one is a stored recording's hash rather than a file.
+std::string RecordingFiles(const std::string& spec_path, const v1::DiagnosisSpec& d) {
+  std::vector<std::string> files;
+  auto add = [&](const std::string& r) {
+    fs::path p(r);
+    if (p.is_relative()) p = fs::path(spec_path).parent_path() / p;
+    if (!fs::is_regular_file(p)) {
+      std::cerr << "gaitforge: " << spec_path << ": recording '" << r
+                << "' is not a file here; a plan simulates the recorded gaits and needs the "
+                   "recordings as files\n";
+      return false;
+    }
+    files.push_back(p.string());
+    return true;
+  };
+  for (const auto& r : d.training())
+    if (!add(r)) return "";
+  for (const auto& r : d.held_out())
+    if (!add(r)) return "";
+  return absl::StrJoin(files, ",");
+}
+
+std::string ReadWhole(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// gaitforge-sim plan's arguments: the robot (a descriptor the spec carries goes to `robot_file`),
+// the plan's options (the spec's max_shift_samples), the report's counts and step, the spec's
+// channels.
+std::vector<std::string> SimArgs(const v1::DiagnosisSpec& d, const diagnosis::plan::ReportModel& m,
+                                 const std::string& recordings, diagnosis::plan::Options p,
+                                 const std::string& robot_file) {
+  if (auto it = d.params().find("max_shift_samples"); it != d.params().end())
+    p.max_shift = static_cast<int>(it->second);
+  std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "plan", "--robot",
+                                   robot_file.empty() ? d.robot() : robot_file, "--recordings",
+                                   recordings};
+  for (const std::string& a : diagnosis::plan::Arguments(p)) argv.push_back(a);
+  std::vector<std::string> counts;
+  for (const auto& [name, n] : m.counts) counts.push_back(absl::StrCat(name, "=", n));
+  if (!counts.empty()) argv.insert(argv.end(), {"--count", absl::StrJoin(counts, ",")});
+  const double ms = m.timestep_ms > 0 ? m.timestep_ms : d.has_timestep_ms() ? d.timestep_ms() : 0;
+  if (ms > 0)
+    argv.insert(argv.end(), {"--set", absl::StrFormat("simulation.timestep_s=%.17g", ms / 1000)});
+  if (!d.channels().empty()) argv.insert(argv.end(), {"--channels", d.channels()});
+  return argv;
+}
+
+}  // namespace
+
+int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args,
+                    const diagnosis::plan::Options& p, const std::string& output) {
+  if (args.size() != 1 || p.report.empty()) {
+    std::cerr << "gaitforge: usage: gaitforge diagnose plan SPEC.yaml --report "
+                 "DIR/diagnosis.json [--propose N] [--random N] [--rivals N] [--seed N] "
+                 "[--decisive X] [--output PLAN.json] [--json]\n";
+    return kUsage;
+  }
+  v1::DiagnosisSpec d;
+  if (int c = ReadDiagnosisSpec(args[0], &d); c) return c;
+  const std::string report = ReadWhole(p.report);
+  if (report.empty()) {
+    std::cerr << "gaitforge: --report: cannot read " << p.report
+              << " (gaitforge diagnose writes it as --out/NAME-diagnosis/diagnosis.json)\n";
+    return kNotFound;
+  }
+  auto model = diagnosis::plan::ReportModelOf(report, p.report);
+  if (!model.ok()) {
+    std::cerr << "gaitforge: " << model.status().message() << "\n";
+    return kUsage;
+  }
+  const std::string recordings = RecordingFiles(args[0], d);
+  if (recordings.empty()) return kUsage;
+  std::string robot_file;
+  if (!d.robot_descriptor().empty()) {
+    robot_file = (fs::temp_directory_path() / absl::StrCat("gaitforge-plan-", getpid(), ".yaml")).string();
+    std::ofstream(robot_file) << d.robot_descriptor();
+  }
+  std::string json;
+  const int code = RunCapture(SimArgs(d, *model, recordings, p, robot_file), &json);
+  if (!robot_file.empty()) fs::remove(robot_file);
+  if (code != 0) return code == 2 ? kUsage : code;
+  const std::string out =
+      output.empty() ? (fs::path(p.report).parent_path() / "plan.json").string() : output;
+  std::ofstream(out) << json;
+  if (g.json) {
+    std::cout << json;
+    return kOk;
+  }
+  auto words = diagnosis::plan::PlanWords(json, "gaitforge-sim plan");
+  if (!words.ok()) {
+    std::cerr << "gaitforge: " << words.status().message() << "\n";
+    return 1;
+  }
+  std::cout << *words << "  written: " << out << "\n";
+  return kOk;
+}
+
+}  // namespace gaitforge::cli

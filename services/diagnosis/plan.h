@@ -1,0 +1,100 @@
+#pragma once
+// `gaitforge diagnose plan` (docs/diagnosis.md, "Plan the experiment that decides"): which
+// recordings would separate a diagnosis's leading explanations. The pure parts, without a
+// simulator: the explanations a diagnosis report leaves, the candidate experiments a robot's
+// gene space and the recorded gaits offer, and the greedy choice of the few that separate
+// the most pairs of explanations. workers/tools/sim_plan.cc simulates them.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "robots/descriptor.h"
+#include "services/core/flags.h"
+
+namespace gaitforge::diagnosis::plan {
+
+// What a plan is asked for: the same flags for gaitforge diagnose plan and gaitforge-sim plan.
+struct Options {
+  std::string report;  // the diagnosis's report (diagnosis.json)
+  int propose = 3;     // recordings to propose
+  int random = 12;     // random gaits among the candidates
+  int rivals = 3;      // fitted explanations beside the baseline
+  int64_t seed = 1;    // of the random gaits
+  double decisive = 2;  // a pair parted by this many residuals is decided
+  int max_shift = 10;  // time shifts (samples) a comparison may absorb, as the diagnosis's
+  int threads = 1;     // simulations at once
+};
+
+// Registers --report, --propose, --random, --rivals, --seed, --decisive on `flags`, their
+// help prefixed with `command` ("diagnose plan").
+void AddFlags(core::Flags& flags, Options* o, const std::string& command);
+// Each option within its range; the error names the flag.
+absl::Status Check(const Options& o);
+// The options as gaitforge-sim plan's arguments (--threads and --max-shift included).
+std::vector<std::string> Arguments(const Options& o);
+
+// One explanation of the recordings: the model with these parameter values (base
+// parameters and the effect's; the nuisance ones left out, they belong to a recording).
+struct Explanation {
+  std::string id;  // "none" (the baseline) or the report's id, e.g. "ground.slope"
+  std::vector<std::pair<std::string, double>> set;
+  double train = 0;  // its training error, in the diagnosis's error
+};
+
+// What a report says of the model every explanation shares: the counts the diagnosis moved
+// to (structure first) and the step it ran at when numerics first moved it.
+struct ReportModel {
+  std::vector<std::pair<std::string, int>> counts;
+  double timestep_ms = 0;  // 0: the spec's or the robot's
+};
+
+// The baseline and up to `rivals` fitted explanations of a diagnosis report (its named
+// effects first, then the runners-up that fitted better than the baseline on the training
+// data, closest held out first; fits at a bound of their range and failed fits left out).
+// An error naming `where` when the report is not JSON or leaves fewer than two.
+absl::StatusOr<std::vector<Explanation>> ExplanationsFromReport(const std::string& json,
+                                                                const std::string& where,
+                                                                int rivals);
+absl::StatusOr<ReportModel> ReportModelOf(const std::string& json, const std::string& where);
+
+// A gait the diagnosis was given (a recording's command) and how many cycles it ran.
+struct Recorded {
+  std::string name;  // the recording's file name
+  std::vector<double> genes;
+  int cycles = 1;
+};
+
+// A recording to propose: a gait (the controller's genes) run from rest for `cycles`.
+struct Experiment {
+  std::string name;  // e.g. "train-1.csv, period x0.5" or "random 3"
+  std::string kind;  // "recorded", "longer", "period", "random"
+  std::vector<double> genes;
+  int cycles = 1;
+};
+
+// The candidates: each recorded gait as it was and run three times as long; with its period
+// halved and doubled where the controller has a period gene T or a frequency gene f and the
+// result stays in range; and `random` gaits drawn uniformly from the gene space (seeded),
+// each as long as the longest recorded gait.
+std::vector<Experiment> Candidates(const robots::RobotDescriptor& d,
+                                   const std::vector<Recorded>& recorded, int random,
+                                   uint64_t seed);
+
+// Every unordered pair (i, j), i < j, of n explanations, in a fixed order.
+std::vector<std::pair<int, int>> Pairs(int n);
+
+// ratio[e][p]: how far candidate e separates pair p, in multiples of what the model leaves
+// unexplained. Picks up to `count` candidates greedily, each the one that adds most to the
+// pairs' best separations so far, counted up to `decisive` (a pair separated by `decisive`
+// is decided; more does not help); stops when none adds. Ties go to the earlier candidate.
+// A candidate whose ratios are not all finite (a simulation that failed) is never picked.
+std::vector<int> Choose(const std::vector<std::vector<double>>& ratio, int count,
+                        double decisive);
+
+// A plan's JSON (gaitforge-sim plan) in words: the recordings to make, what each separates,
+// and the pairs no candidate decides. An error when it is not a plan.
+absl::StatusOr<std::string> PlanWords(const std::string& json, const std::string& where);
+
+}  // namespace gaitforge::diagnosis::plan
