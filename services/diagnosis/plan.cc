@@ -180,6 +180,19 @@ std::vector<Experiment> Candidates(const robots::RobotDescriptor& d,
   return out;
 }
 
+std::vector<Experiment> PlaybackCandidates(const std::vector<std::string>& names) {
+  std::vector<Experiment> out;
+  for (int k = 0; k < static_cast<int>(names.size()); ++k) {
+    const std::string& n = names[k];
+    out.push_back({n, "recorded", {}, 0, k, {}});
+    out.push_back({n + ", inputs x0.5", "scaled", {}, 0, k, {0.5, 1, -1}});
+    out.push_back({n + ", inputs x1.5", "scaled", {}, 0, k, {1.5, 1, -1}});
+    out.push_back({n + ", twice as slow", "slower", {}, 0, k, {1, 2, -1}});
+    out.push_back({n + ", let go half-way", "released", {}, 0, k, {1, 1, 0.5}});
+  }
+  return out;
+}
+
 std::vector<std::pair<int, int>> Pairs(int n) {
   std::vector<std::pair<int, int>> out;
   for (int i = 0; i < n; ++i)
@@ -228,11 +241,14 @@ std::string StepWords(int k, const Struct& c, const ListValue& pairs, double dec
   for (const auto& [name, v] : Field(c, "genes").struct_value().fields())
     genes.push_back(absl::StrFormat("%s=%.4g", name, v.number_value()));
   std::sort(genes.begin(), genes.end());
-  std::string out = absl::StrFormat("  %d. %s: %d cycles of %.3g s from rest (%.3g s)\n     genes %s\n",
-                                    k + 1, Field(c, "name").string_value(),
-                                    static_cast<int>(Number(c, "cycles", 0)),
-                                    Number(c, "period_s", 0), Number(c, "duration_s", 0),
-                                    absl::StrJoin(genes, " "));
+  std::string out =
+      genes.empty()
+          ? absl::StrFormat("  %d. %s: %.3g s from rest\n", k + 1, Field(c, "name").string_value(),
+                            Number(c, "duration_s", 0))
+          : absl::StrFormat("  %d. %s: %d cycles of %.3g s from rest (%.3g s)\n     genes %s\n",
+                            k + 1, Field(c, "name").string_value(),
+                            static_cast<int>(Number(c, "cycles", 0)), Number(c, "period_s", 0),
+                            Number(c, "duration_s", 0), absl::StrJoin(genes, " "));
   const ListValue& ratio = Field(c, "ratio").list_value();
   for (int p = 0; p < ratio.values_size() && p < pairs.values_size(); ++p) {
     const double r = ratio.values(p).number_value();

@@ -66,12 +66,23 @@ struct Recorded {
   int cycles = 1;
 };
 
-// A recording to propose: a gait (the controller's genes) run from rest for `cycles`.
+// How a playback's recorded inputs are varied: every input times `scale`, time stretched by
+// `time_scale`, and all inputs 0 from `release_at` of its (stretched) length on when
+// release_at is in (0, 1): the robot let go, a passive decay.
+struct InputVariant {
+  double scale = 1, time_scale = 1, release_at = -1;
+};
+
+// A recording to propose: a gait (the controller's genes) run from rest for `cycles`, or
+// (source >= 0) the inputs of recorded playback `source`, varied.
 struct Experiment {
   std::string name;  // e.g. "train-1.csv, period x0.5" or "random 3"
-  std::string kind;  // "recorded", "longer", "period", "random"
+  std::string kind;  // "recorded", "longer", "period", "random"; playbacks: "recorded",
+                     // "scaled", "slower", "released"
   std::vector<double> genes;
   int cycles = 1;
+  int source = -1;
+  InputVariant inputs;
 };
 
 // The candidates: each recorded gait as it was and run three times as long; with its period
@@ -81,6 +92,11 @@ struct Experiment {
 std::vector<Experiment> Candidates(const robots::RobotDescriptor& d,
                                    const std::vector<Recorded>& recorded, int random,
                                    uint64_t seed);
+
+// The candidates of a robot driven by recorded inputs (playbacks; the arm): each recording's
+// inputs as they were, at half and one and a half times their size, twice as slow, and let
+// go half-way (a step held, then released: the decay shows stiffness and damping).
+std::vector<Experiment> PlaybackCandidates(const std::vector<std::string>& names);
 
 // Every unordered pair (i, j), i < j, of n explanations, in a fixed order.
 std::vector<std::pair<int, int>> Pairs(int n);

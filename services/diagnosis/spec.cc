@@ -79,6 +79,13 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.held_out_size() == 0)
     return absl::InvalidArgumentError(
         "field 'held_out': at least one recording is required (decisions rest on it)");
+  for (int h = 0; h < d.held_out_size(); ++h)
+    for (int t = 0; t < d.training_size(); ++t)
+      if (d.held_out(h) == d.training(t))
+        return absl::InvalidArgumentError(absl::StrCat(
+            "field 'held_out[", h, "]': '", d.held_out(h), "' is also training[", t,
+            "]: a held-out recording must be one the fits never saw (else the decision "
+            "rests on data the model was fitted to)"));
   if (d.robot().empty())
     return absl::InvalidArgumentError(
         "field 'robot': required: the robot the recordings are of, a built-in name or a "

@@ -3,6 +3,9 @@
 // runs through gaitforge-sim on the real model.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <map>
+
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 #include "tests/e2e/cluster.h"
@@ -76,6 +79,41 @@ TEST(DiagnosePlan, ProposesTheGaitsThatSeparateTheExplanationsOnTheRealModel) {
             std::string::npos) << r.out;
   EXPECT_NE(r.out.find("separates none from ground.slope"), std::string::npos) << r.out;
   EXPECT_FALSE(ReadFile(dir.File("p.json")).empty());
+}
+
+// Paper 004's arm, driven by recorded rod forces: a plan varies the inputs. A joint that
+// softens with its bend parts from the constant one the more, the farther the arm bends.
+TEST(DiagnosePlan, VariesAPlaybacksInputsForARobotThatFollowsThem) {
+  TempDir dir;
+  std::string inputs = "t,rod1.force,rod2.force,rod3.force\n";
+  for (int k = 0; k <= 1500; ++k) inputs += std::to_string(k / 1000.0) + ",1.2,1.3,-0.5\n";
+  WriteFile(dir.File("in.csv"), inputs);
+  auto r = RunCommand(Bin("gaitforge-sim") + " trajectory --robot continuum_arm --inputs " +
+                      dir.File("in.csv") + " --rate 100 --out " + dir.File("step.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::filesystem::copy_file(dir.File("step.csv"), dir.File("held.csv"));
+  std::filesystem::copy_file(dir.File("step.csv.json"), dir.File("held.csv.json"));
+  WriteFile(dir.File("spec.yaml"), "name: arm-plan\ntraining: [step.csv]\nheld_out: [held.csv]\n"
+                                   "channels: \"tip.x,tip.y,tip.z\"\n");
+  WriteFile(dir.File("report.json"), R"({"errors": {"baseline_train": 0.0005},
+    "baseline": {"params": {}, "train": 0.0005}, "effects": [], "runners_up": [
+      {"id": "joint.softening", "train": 0.0004, "held_out": 0.0006, "at_bound": [],
+       "delta_bic": -30, "params": {"effect.joint_softening_per_rad": {"value": 8}}}]})");
+  r = RunCommand(Bin("gaitforge") + " diagnose plan " + dir.File("spec.yaml") + " --report " +
+                 dir.File("report.json") + " --workers 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Struct plan;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &plan).ok()) << r.out;
+  std::map<std::string, double> sep;
+  for (const Value& c : At(plan, "candidates").list_value().values()) {
+    const Struct& s = c.struct_value();
+    ASSERT_TRUE(At(s, "valid").bool_value()) << At(s, "reason").string_value();
+    sep[At(s, "name").string_value()] = At(s, "separation").list_value().values(0).number_value();
+  }
+  ASSERT_EQ(sep.size(), 10u);  // five variants of each of the two recordings
+  EXPECT_GT(sep["step.csv, inputs x1.5"], sep["step.csv"]);
+  EXPECT_GT(sep["step.csv"], sep["step.csv, inputs x0.5"]);
+  EXPECT_GT(sep["step.csv, let go half-way"], 0);
 }
 
 TEST(DiagnosePlan, RefusesAReportWithNothingToSeparateAndARequestWithoutAReport) {

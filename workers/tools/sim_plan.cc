@@ -14,6 +14,7 @@
 #include "services/core/json_text.h"
 #include "services/diagnosis/plan.h"
 #include "workers/models/generic/generic_gait.h"
+#include "workers/models/generic/generic_playback.h"
 #include "workers/objectives/calibration_error.h"
 #include "workers/tools/sim_tool.h"
 
@@ -29,6 +30,7 @@ struct Setting {
   std::vector<plan::Explanation> explanations;
   std::vector<generic::ParamValues> values;  // per explanation
   std::vector<plan::Recorded> recorded;
+  std::vector<recording::Recording> playbacks;  // the recordings, when they are playbacks
   std::vector<std::string> channels;  // asked for ("": decided on the first simulation)
   std::vector<std::string> recorded_channels;
   double rate_hz = 100;
@@ -43,21 +45,29 @@ absl::StatusOr<std::string> ReadText(const std::string& path, const std::string&
   return text.str();
 }
 
-// The recordings' gaits and their sampling rate (made a whole number of the model's steps).
+// The recordings' gaits (or playbacks: all of one kind) and their sampling rate (made a
+// whole number of the model's steps).
 absl::Status ReadRecorded(const GenericRun& run, const PlanArgs& a, double timestep_s,
                           Setting* s) {
+  std::string kind;
   for (const auto& part : absl::StrSplit(a.recordings, ',', absl::SkipEmpty())) {
     const std::string path(part);
     auto rec = ReadRecording(path, run);
     if (!rec.ok()) return rec.status();
-    if (rec->meta.command_kind != "gait")
+    const std::string k = rec->meta.command_kind;
+    if ((k != "gait" && k != "playback") || (!kind.empty() && k != kind))
       return absl::InvalidArgumentError(absl::StrCat(
-          "--recordings ", path, ": its command is a ", rec->meta.command_kind,
-          ", not a gait; a plan proposes gaits of the robot's controller"));
-    const double period = robots::FindControllerKind(run.robot->controller.kind)->period_s(rec->meta.genes);
-    const int cycles = std::max(1, static_cast<int>(std::lround(rec->t.back() / period)));
+          "--recordings ", path, ": its command is a ", k, kind.empty() ? "" : " after a " + kind,
+          "; a plan varies gaits or playbacks, recordings of one kind"));
+    kind = k;
     const std::string name = path.substr(path.find_last_of('/') + 1);
-    s->recorded.push_back({name, rec->meta.genes, cycles});
+    if (k == "playback") {
+      s->recorded.push_back({name, {}, 0});
+      s->playbacks.push_back(*rec);
+    } else {
+      const double period = robots::FindControllerKind(run.robot->controller.kind)->period_s(rec->meta.genes);
+      s->recorded.push_back({name, rec->meta.genes, std::max(1, static_cast<int>(std::lround(rec->t.back() / period)))});
+    }
     if (s->recorded.size() == 1) {
       s->recorded_channels = rec->channels;
       const double steps = std::max(1.0, std::ceil(rec->dt / timestep_s - 1e-9));
@@ -114,7 +124,8 @@ absl::StatusOr<std::vector<int>> Compared(const Setting& s, const calibration::T
 
 struct Scored {
   plan::Experiment e;
-  double period_s = 0;
+  double period_s = 0;  // 0: a playback
+  double duration_s = 0;
   std::vector<double> separation;  // per pair, the channels' pooled RMS difference
   std::string reason;              // why a simulation failed ("" when none did)
 };
@@ -137,18 +148,44 @@ double Separation(const calibration::Trajectory& a, const calibration::Trajector
   return calibration::ShiftInvariantError(calibration::Metric::kRmse, x, y, shift, true).error;
 }
 
+// A playback's recording with its inputs varied (plan.h, InputVariant).
+recording::Recording Varied(const recording::Recording& rec, const plan::InputVariant& v,
+                            const std::vector<std::string>& inputs) {
+  recording::Recording out = rec;
+  for (double& t : out.t) t *= v.time_scale;
+  const double release = v.release_at > 0 && v.release_at < 1 ? v.release_at * out.t.back() : INFINITY;
+  for (const std::string& name : inputs) {
+    const int c = out.ChannelIndex(name);
+    if (c < 0) continue;
+    for (size_t i = 0; i < out.t.size(); ++i) out.columns[c][i] = out.t[i] < release ? v.scale * out.columns[c][i] : 0;
+  }
+  return out;
+}
+
+// One candidate simulated under one explanation's values: a gait from rest, or a playback
+// of its recording's inputs varied; c's period and duration set.
+calibration::SimRun Simulate(const GenericRun& run, const Setting& s, const generic::ParamValues& v,
+                             Scored& c) {
+  if (c.e.source < 0) {
+    c.period_s = robots::FindControllerKind(run.robot->controller.kind)->period_s(c.e.genes);
+    c.duration_s = c.period_s * c.e.cycles;
+    return generic::SimulateChannels(*run.robot, v, c.e.genes, c.e.cycles, s.rate_hz);
+  }
+  const recording::Recording rec = Varied(s.playbacks[c.e.source], c.e.inputs, run.robot->InputChannels());
+  c.duration_s = rec.t.back();
+  return generic::SimulatePlayback(*run.robot, v, rec, 0, rec.t.back(), s.rate_hz);
+}
+
 absl::Status Score(const GenericRun& run, const Setting& s, int threads, int max_shift,
                    std::vector<Scored>* scored) {
   const auto pairs = plan::Pairs(static_cast<int>(s.explanations.size()));
-  const auto* kind = robots::FindControllerKind(run.robot->controller.kind);
   absl::Status bad = absl::OkStatus();
   std::mutex mu;
   ParallelFor(static_cast<int>(scored->size()), threads, [&](int k) {
     Scored& c = (*scored)[k];
-    c.period_s = kind->period_s(c.e.genes);
     std::vector<calibration::Trajectory> runs;
     for (size_t i = 0; i < s.values.size() && c.reason.empty(); ++i) {
-      auto sim = generic::SimulateChannels(*run.robot, s.values[i], c.e.genes, c.e.cycles, s.rate_hz);
+      auto sim = Simulate(run, s, s.values[i], c);
       if (!sim.valid) c.reason = absl::StrCat("under ", s.explanations[i].id, ": ", sim.reason);
       runs.push_back(std::move(sim.trajectory));
     }
@@ -172,6 +209,17 @@ std::string GenesJson(const robots::RobotDescriptor& d, const std::vector<double
   return "{" + absl::StrJoin(items, ", ") + "}";
 }
 
+// A playback candidate's inputs: the recording they come from and how they are varied.
+std::string InputsJson(const Setting& s, const Scored& c) {
+  if (c.e.source < 0) return "null";
+  const plan::InputVariant& v = c.e.inputs;
+  const bool released = v.release_at > 0 && v.release_at < 1;
+  return absl::StrCat("{\"from\": ", JsonQuote(s.recorded[c.e.source].name), ", \"scale\": ",
+                      JsonNum(v.scale), ", \"time_scale\": ", JsonNum(v.time_scale),
+                      ", \"release_at_s\": ", released ? JsonNum(v.release_at * c.duration_s) : "null",
+                      "}");
+}
+
 std::string CandidateJson(const robots::RobotDescriptor& d, const Setting& s, const Scored& c) {
   std::vector<double> ratio;
   for (double sep : c.separation) ratio.push_back(sep / s.residual);
@@ -179,7 +227,7 @@ std::string CandidateJson(const robots::RobotDescriptor& d, const Setting& s, co
                       ", \"genes\": ", GenesJson(d, c.e.genes), ", \"gene_values\": ",
                       core::JsonNumList(c.e.genes), ", \"cycles\": ", c.e.cycles,
                       ", \"period_s\": ", JsonNum(c.period_s), ", \"duration_s\": ",
-                      JsonNum(c.period_s * c.e.cycles), ", \"valid\": ",
+                      JsonNum(c.duration_s), ", \"inputs\": ", InputsJson(s, c), ", \"valid\": ",
                       c.reason.empty() ? "true" : "false", ", \"reason\": ", JsonQuote(c.reason),
                       ", \"separation\": ", core::JsonNumList(c.separation), ", \"ratio\": ",
                       core::JsonNumList(ratio), "}");
@@ -228,7 +276,12 @@ absl::StatusOr<std::string> GenericPlan(const GenericRun& run, const PlanArgs& a
   if (!s.ok()) return s.status();
   const plan::Options& o = a.options;
   std::vector<Scored> scored;
-  for (auto& e : plan::Candidates(*run.robot, s->recorded, o.random, static_cast<uint64_t>(o.seed))) scored.push_back({e});
+  std::vector<std::string> names;
+  for (const plan::Recorded& r : s->recorded) names.push_back(r.name);
+  const auto experiments = s->playbacks.empty()
+                               ? plan::Candidates(*run.robot, s->recorded, o.random, static_cast<uint64_t>(o.seed))
+                               : plan::PlaybackCandidates(names);
+  for (const auto& e : experiments) scored.push_back({e});
   if (auto st = Score(run, *s, o.threads, o.max_shift, &scored); !st.ok()) return st;
   std::vector<std::vector<double>> ratio;
   for (const Scored& c : scored) {

@@ -111,6 +111,19 @@ TEST(Plan, CandidatesAreTheRecordedGaitsVariedAndRandomGaitsInRange) {
   EXPECT_DOUBLE_EQ(t[3].genes[0], 4.0);
 }
 
+TEST(Plan, APlaybacksCandidatesVaryItsRecordedInputs) {
+  const auto c = PlaybackCandidates({"step-a.csv", "swing.csv"});
+  ASSERT_EQ(c.size(), 10u);
+  EXPECT_EQ(c[0].kind, "recorded");
+  EXPECT_EQ(c[0].source, 0);
+  EXPECT_DOUBLE_EQ(c[2].inputs.scale, 1.5);
+  EXPECT_DOUBLE_EQ(c[3].inputs.time_scale, 2);
+  EXPECT_EQ(c[4].kind, "released");
+  EXPECT_DOUBLE_EQ(c[4].inputs.release_at, 0.5);
+  EXPECT_EQ(c[9].source, 1);
+  for (const auto& e : c) EXPECT_TRUE(e.genes.empty());
+}
+
 TEST(Plan, TheChoiceCoversThePairsAndStopsWhenNothingMoreHelps) {
   // Pairs: (none, A), (none, B), (A, B). Candidate 3 parts everything but failed once.
   const std::vector<std::vector<double>> ratio = {

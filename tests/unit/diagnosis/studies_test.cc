@@ -144,6 +144,16 @@ TEST(DiagnosisSpec, ASpecWithoutARobotIsRefusedSayingWhereItComesFrom) {
   EXPECT_NE(s.message().find("first training recording"), std::string::npos) << s;
 }
 
+TEST(DiagnosisSpec, AHeldOutRecordingThatIsAlsoATrainingOneIsRefused) {
+  v1::DiagnosisSpec d = Spec();
+  Defaults(&d);
+  ASSERT_TRUE(Validate(d).ok());
+  d.add_held_out(d.training(0));
+  const absl::Status s = Validate(d);
+  EXPECT_NE(s.message().find("field 'held_out[1]'"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("is also training[0]"), std::string::npos) << s;
+}
+
 TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOnes) {
   v1::DiagnosisSpec d = Spec();
   d.set_robot("twobox");
