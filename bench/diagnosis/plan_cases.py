@@ -23,6 +23,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import make_arm_cases  # noqa: E402
+from make_cases import read_csv  # noqa: E402
 from make_robot_cases import ROBOTS, disguise, simulate, overrides_text  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -45,7 +47,7 @@ def plan(bin_dir, suite, case, report, a, work):
         c = json.load(f)
     extra = f"timestep_ms: {a.timestep_ms}\n" if a.timestep_ms else ""
     spec = os.path.join(work, "diagnosis.yaml")
-    with open(spec, "w") as f:
+    with open(spec, "w") as f:  # the budgets do not matter to a plan
         f.write(spec_text(os.path.abspath(case_dir), c, 60, 240, extra=extra) + extra)
     report_path = os.path.join(work, "diagnosis.json")
     with open(report_path, "w") as f:
@@ -60,8 +62,33 @@ def plan(bin_dir, suite, case, report, a, work):
         return c, json.load(f)
 
 
-def record(bin_dir, robot, answer, proposal, dst, seed):
-    """The proposed gait recorded on the case's reference, disguised as the suite's are."""
+def varied_inputs(src_csv, inputs, out_csv):
+    """A playback's recorded inputs (its rod columns) varied as the plan says (plan.h,
+    InputVariant): scaled, time stretched, all 0 from release_at_s on."""
+    header, data = read_csv(src_csv)
+    cols = [j for j, h in enumerate(header) if h.startswith("rod")]
+    t = data[:, 0] * inputs["time_scale"]
+    release = inputs["release_at_s"] if inputs["release_at_s"] is not None else float("inf")
+    with open(out_csv, "w") as f:
+        f.write(",".join(["t"] + [header[j] for j in cols]) + "\n")
+        for i in range(len(t)):
+            vals = [inputs["scale"] * data[i, j] if t[i] < release else 0.0 for j in cols]
+            f.write(f"{t[i]:.6f}," + ",".join(f"{v:.9g}" for v in vals) + "\n")
+
+
+def record(bin_dir, robot, answer, proposal, dst, seed, case_dir=""):
+    """The proposed gait (or varied playback) recorded on the case's reference, disguised as
+    the suite's are."""
+    if proposal.get("inputs"):  # the arm: make_arm_cases' reference and disguise
+        src = next(os.path.join(case_dir, split, proposal["inputs"]["from"])
+                   for split in ("train", "held_out")
+                   if os.path.exists(os.path.join(case_dir, split, proposal["inputs"]["from"])))
+        with tempfile.TemporaryDirectory() as tmp:
+            inputs, raw = os.path.join(tmp, "in.csv"), os.path.join(tmp, "raw.csv")
+            varied_inputs(src, proposal["inputs"], inputs)
+            make_arm_cases.simulate(os.path.join(bin_dir, "gaitforge-sim"), inputs, answer["params"], raw)
+            make_arm_cases.disguise(raw, dst, seed)
+        return
     spec = dict(ROBOTS[robot], settle=0, cycles=proposal["cycles"])
     genes = ",".join(repr(g) for g in proposal["gene_values"])
     sets = ",".join(x for x in (answer["reference"], overrides_text(answer["params"])) if x)
@@ -100,7 +127,8 @@ def main():
                 shutil.copy(os.path.join(a.suite, "cases", a.case, rel + ext), os.path.join(new_dir, rel + ext))
     for k, proposal in enumerate(p["plan"]):
         rel = f"train/planned-{k + 1}.csv"
-        record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), 7000 + k)
+        record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), 7000 + k,
+               os.path.join(a.suite, "cases", a.case))
         c["train"].append(rel)
     with open(os.path.join(new_dir, "case.json"), "w") as f:
         f.write(json.dumps(c, indent=2) + "\n")

@@ -288,8 +288,8 @@ absl::StatusOr<std::string> PlanWords(const std::string& json, const std::string
     absl::StrAppend(&out, "  every pair is decided by these recordings\n");
   else
     absl::StrAppend(&out, "  no candidate decides: ", absl::StrJoin(open, "; "),
-                    " (the model's residual hides the difference: record longer, or more "
-                    "gaits)\n");
+                    " (the model's residual hides the difference: longer or other recordings "
+                    "might tell)\n");
   return out;
 }
 
