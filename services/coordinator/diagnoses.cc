@@ -105,6 +105,10 @@ absl::StatusOr<v1::DiagnosisSummary> Diagnoses::Create(v1::DiagnosisSpec spec) {
   if (auto s = diagnosis::Validate(spec); !s.ok()) return s;
   if (auto s = c_.recordings().CheckExist(spec.training(), "training"); !s.ok()) return s;
   if (auto s = c_.recordings().CheckExist(spec.held_out(), "held_out"); !s.ok()) return s;
+  if (auto s = c_.recordings().CheckOneRobotAndRate(
+          spec.robot(), {{"training", &spec.training()}, {"held_out", &spec.held_out()}});
+      !s.ok())
+    return s;
   auto all = c_.store().ListDiagnoses();
   if (!all.ok()) return all.status();
   for (const auto& r : *all) {

@@ -1,8 +1,10 @@
 #include "services/coordinator/recordings.h"
 
 #include <chrono>
+#include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "robots/registry.h"
 #include "services/recording/recording.h"
 
@@ -96,6 +98,34 @@ absl::Status Recordings::CheckExist(const google::protobuf::RepeatedPtrField<std
         "' is stored; add it with 'gaitforge recording add FILE.csv' (or name the file in the "
         "spec and submit it with the CLI)"));
   }
+  return absl::OkStatus();
+}
+
+absl::Status Recordings::CheckOneRobotAndRate(
+    const std::string& robot,
+    const std::vector<std::pair<std::string, const google::protobuf::RepeatedPtrField<std::string>*>>&
+        fields) {
+  double dt = 0;
+  std::string first;
+  for (const auto& [field, hashes] : fields)
+    for (int i = 0; i < hashes->size(); ++i) {
+      auto r = store_.GetRecording((*hashes)[i], false);
+      if (!r.ok()) return r.status();
+      const std::string path = absl::StrCat(field, "[", i, "]");
+      if (r->robot != robot)
+        return absl::InvalidArgumentError(absl::StrCat(
+            "field '", path, "': recording '", r->name, "' is of robot '", r->robot,
+            "', the diagnosis's robot is '", robot, "': one spec diagnoses one robot"));
+      if (dt == 0) {
+        dt = r->dt;
+        first = path;
+      } else if (std::abs(r->dt - dt) > 0.01 * dt) {
+        return absl::InvalidArgumentError(absl::StrFormat(
+            "field '%s': recording '%s' is sampled every %g s, %s every %g s: one spec's "
+            "recordings share a rate (resample them to one)",
+            path, r->name, r->dt, first, dt));
+      }
+    }
   return absl::OkStatus();
 }
 

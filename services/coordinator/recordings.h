@@ -19,6 +19,12 @@ class Recordings {
   // OK if every hash names a stored recording; the error names the field path.
   absl::Status CheckExist(const google::protobuf::RepeatedPtrField<std::string>& hashes,
                           const std::string& field);
+  // OK if every stored recording of `fields` (name, hashes) is of `robot` and sampled at one
+  // rate (within 1%); the error names the first field path that is not, and what it is.
+  absl::Status CheckOneRobotAndRate(
+      const std::string& robot,
+      const std::vector<std::pair<std::string, const google::protobuf::RepeatedPtrField<std::string>*>>&
+          fields);
 
  private:
   storage::StudyStore& store_;

@@ -2,6 +2,8 @@
 // uploaded through the API, fitted by CMA-ES on real workers that fetch them by hash, and
 // reported with held-out error.
 #include <gtest/gtest.h>
+
+#include <tuple>
 #include <sqlite3.h>
 
 #include <cmath>
@@ -198,6 +200,32 @@ TEST(Diagnose, ASpecWithoutARobotTakesItFromItsRecordingOrSaysWhy) {
   EXPECT_NE(r.err.find("field 'robot' is left out"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("a.csv.json:1:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("blimp"), std::string::npos) << r.err;
+}
+
+// One spec diagnoses one robot from recordings at one rate: a recording of another robot,
+// or at another rate, is refused before anything runs, naming its field.
+TEST(Diagnose, RecordingsOfAnotherRobotOrRateAreRefused) {
+  TempDir dir;
+  for (const auto& [name, robot, genes, rate] :
+       {std::make_tuple("a.csv", "walker", "2,0.4,0,0.1", "50"),
+        std::make_tuple("b.csv", "walker", "1.5,0.3,0.1,0.05", "50"),
+        std::make_tuple("c.csv", "walker", "1.5,0.3,0.1,0.05", "100"),
+        std::make_tuple("t.csv", "tigrillo", "1,0.35,0.35,0.1,0.1,0.5,0.25,5", "50")}) {
+    auto r = RunCommand(Bin("gaitforge-sim") + " trajectory --robot " + robot + " --genes " +
+                        genes + " --cycles 1 --settle 0 --rate " + rate + " --out " +
+                        dir.File(name));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  WriteFile(dir.File("robot.yaml"), "name: d\ntraining: [a.csv, t.csv]\nheld_out: [b.csv]\n");
+  auto r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " diagnose robot.yaml");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("field 'training[1]': recording 't.csv' is of robot 'tigrillo'"),
+            std::string::npos) << r.err;
+  WriteFile(dir.File("rate.yaml"), "name: d\ntraining: [a.csv]\nheld_out: [c.csv]\n");
+  r = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " diagnose rate.yaml");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("field 'held_out[0]': recording 'c.csv' is sampled every 0.01 s"),
+            std::string::npos) << r.err;
 }
 
 // A diagnosis interrupted by kill -9 and run again reuses the fits already in its database
