@@ -131,21 +131,7 @@ int CmdDiagnose(const GlobalOptions& g, const std::vector<std::string>& args, in
   if (!g.json && !conn->dashboard_url().empty())
     std::cerr << "dashboard: " << conn->dashboard_url() << "#/diagnosis/" << created.diagnosis_id()
               << "\n";
-  const int done = AwaitDiagnosis(*stub, created.diagnosis_id(), out_root, g, true);
-  if (done != kOk || g.json) return done;
-  // An ambiguous verdict: say at once which recordings would decide (diagnose_plan.cc).
-  diagnosis::plan::Options plan;
-  plan.report = out_root + "/" + d.name() + "-diagnosis/diagnosis.json";
-  plan.threads = workers;
-  std::ifstream report(plan.report);
-  std::stringstream text;
-  text << report.rdbuf();
-  if (text.str().find("\"verdict\": \"ambiguous\"") != std::string::npos) {  // report.cc's form
-    std::cout << "\n";
-    if (CmdDiagnosePlan(g, {args[0]}, plan, "") != kOk)
-      std::cerr << "gaitforge: no plan for the ambiguous verdict (above)\n";
-  }
-  return done;
+  return AwaitDiagnosis(*stub, created.diagnosis_id(), out_root, g, true);
 }
 
 }  // namespace gaitforge::cli

@@ -17,15 +17,16 @@
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
 #include "services/diagnosis/plan.h"
+#include "services/diagnosis/plan_command.h"
 
 namespace gaitforge::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The spec's recordings as files (relative to the spec), comma separated; "" and a message
-// when one is a stored recording's hash rather than a file.
-std::string RecordingFiles(const std::string& spec_path, const v1::DiagnosisSpec& d) {
+// The spec's recordings as files (relative to the spec); empty, with a message, when one is
+// a stored recording's hash rather than a file.
+std::vector<std::string> RecordingFiles(const std::string& spec_path, const v1::DiagnosisSpec& d) {
   std::vector<std::string> files;
   auto add = [&](const std::string& r) {
     fs::path p(r);
@@ -40,10 +41,10 @@ std::string RecordingFiles(const std::string& spec_path, const v1::DiagnosisSpec
     return true;
   };
   for (const auto& r : d.training())
-    if (!add(r)) return "";
+    if (!add(r)) return {};
   for (const auto& r : d.held_out())
-    if (!add(r)) return "";
-  return absl::StrJoin(files, ",");
+    if (!add(r)) return {};
+  return files;
 }
 
 std::string ReadWhole(const std::string& path) {
@@ -51,28 +52,6 @@ std::string ReadWhole(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-// gaitforge-sim plan's arguments: the robot (a descriptor the spec carries goes to `robot_file`),
-// the plan's options (the spec's max_shift_samples), the report's counts and step, the spec's
-// channels.
-std::vector<std::string> SimArgs(const v1::DiagnosisSpec& d, const diagnosis::plan::ReportModel& m,
-                                 const std::string& recordings, diagnosis::plan::Options p,
-                                 const std::string& robot_file) {
-  if (auto it = d.params().find("max_shift_samples"); it != d.params().end())
-    p.max_shift = static_cast<int>(it->second);
-  std::vector<std::string> argv = {SiblingBinary("gaitforge-sim"), "plan", "--robot",
-                                   robot_file.empty() ? d.robot() : robot_file, "--recordings",
-                                   recordings};
-  for (const std::string& a : diagnosis::plan::Arguments(p)) argv.push_back(a);
-  std::vector<std::string> counts;
-  for (const auto& [name, n] : m.counts) counts.push_back(absl::StrCat(name, "=", n));
-  if (!counts.empty()) argv.insert(argv.end(), {"--count", absl::StrJoin(counts, ",")});
-  const double ms = m.timestep_ms > 0 ? m.timestep_ms : d.has_timestep_ms() ? d.timestep_ms() : 0;
-  if (ms > 0)
-    argv.insert(argv.end(), {"--set", absl::StrFormat("simulation.timestep_s=%.17g", ms / 1000)});
-  if (!d.channels().empty()) argv.insert(argv.end(), {"--channels", d.channels()});
-  return argv;
 }
 
 }  // namespace
@@ -98,15 +77,17 @@ int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args
     std::cerr << "gaitforge: " << model.status().message() << "\n";
     return kUsage;
   }
-  const std::string recordings = RecordingFiles(args[0], d);
+  const std::vector<std::string> recordings = RecordingFiles(args[0], d);
   if (recordings.empty()) return kUsage;
-  std::string robot_file;
+  std::string robot_file;  // a descriptor the spec carries, for gaitforge-sim
   if (!d.robot_descriptor().empty()) {
     robot_file = (fs::temp_directory_path() / absl::StrCat("gaitforge-plan-", getpid(), ".yaml")).string();
     std::ofstream(robot_file) << d.robot_descriptor();
   }
   std::string json;
-  const int code = RunCapture(SimArgs(d, *model, recordings, p, robot_file), &json);
+  const int code = RunCapture(
+      diagnosis::PlanCommand(d, robot_file.empty() ? d.robot() : robot_file, recordings, p, *model),
+      &json);
   if (!robot_file.empty()) fs::remove(robot_file);
   if (code != 0) return code == 2 ? kUsage : code;
   const std::string out =

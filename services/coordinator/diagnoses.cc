@@ -34,7 +34,7 @@ v1::DiagnosisState StateOf(const std::string& s) {
 // robot.yaml: the descriptor the corrected model names, when the diagnosis ran on one
 // (another resolution of the robot, or a descriptor the spec carried).
 const char* const kKeptFiles[] = {"diagnosis.json",    "diagnosis.svg", "located.svg",
-                                  "located.json",      "located-held.json",
+                                  "located.json",      "located-held.json", "plan.json",
                                   "corrected-model.yaml", "robot.yaml"};
 
 // The fits of a diagnosis, as studies of this coordinator.

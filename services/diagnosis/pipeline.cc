@@ -15,7 +15,9 @@
 #include "robots/controllers.h"
 #include "robots/count_override.h"
 #include "robots/registry.h"
+#include "services/core/subprocess.h"
 #include "services/diagnosis/locate.h"
+#include "services/diagnosis/plan_command.h"
 #include "services/diagnosis/run_state.h"
 #include "services/recording/recording.h"
 #include "workers/effects/effects.h"
@@ -367,6 +369,24 @@ void WriteCorrected(RunState& s) {
   out << "  options:\n    set: \"" << absl::StrJoin(set, ",") << "\"\n";
 }
 
+// When the recordings left explanations undecided, the recordings that would decide them
+// (plan.h), kept as dir/plan.json: gaitforge-sim plan on the diagnosis's own model (its
+// descriptor and step as it ran) and recordings. A plan that fails is a note, not a failure.
+void PlanStage(RunState& s, const std::string& report) {
+  if (!plan::Undecided(report)) return;
+  s.r.progress({"plan", 0, 0, 1, "planning the recordings that would decide"});
+  std::vector<std::string> files = s.in.train_files;
+  files.insert(files.end(), s.in.held_files.begin(), s.in.held_files.end());
+  plan::Options o;
+  o.report = s.in.dir + "/diagnosis.json";
+  o.threads = 2;
+  std::string json;
+  if (core::RunCapture(PlanCommand(s.d, RobotArg(s.d), files, o, {}), &json) == 0)
+    std::ofstream(s.in.dir + "/plan.json") << json;
+  else
+    s.r.note("warning: no plan of the recordings that would decide (gaitforge-sim plan failed)");
+}
+
 }  // namespace
 
 absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& in,
@@ -379,7 +399,9 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
     if (auto st = stage(s); !st.ok()) return st;
   DecideStage(s);
   WriteCorrected(s);
-  return WriteReport(s);
+  std::string report = WriteReport(s);
+  PlanStage(s, report);
+  return report;
 }
 
 }  // namespace gaitforge::diagnosis

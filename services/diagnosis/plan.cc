@@ -121,6 +121,21 @@ absl::StatusOr<std::vector<Explanation>> ExplanationsFromReport(const std::strin
   return out;
 }
 
+bool Undecided(const std::string& report_json) {
+  auto r = Parse(report_json, "");
+  if (!r.ok()) return false;
+  const std::string verdict = Field(*r, "verdict").string_value();
+  if (verdict == "ambiguous") return true;
+  if (verdict != "none") return false;
+  const double margin = Number(Field(*r, "rule").struct_value(), "margin", 10);
+  for (const Value& v : Field(*r, "runners_up").list_value().values()) {
+    const Struct& f = v.struct_value();
+    if (Number(f, "delta_bic", 0) < -margin && Field(f, "at_bound").list_value().values_size() == 0)
+      return true;
+  }
+  return false;
+}
+
 absl::StatusOr<ReportModel> ReportModelOf(const std::string& json, const std::string& where) {
   auto report = Parse(json, where);
   if (!report.ok()) return report.status();

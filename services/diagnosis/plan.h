@@ -109,6 +109,11 @@ std::vector<std::pair<int, int>> Pairs(int n);
 std::vector<int> Choose(const std::vector<std::vector<double>>& ratio, int count,
                         double decisive);
 
+// Whether a diagnosis report leaves explanations its recordings could not tell apart: an
+// ambiguous verdict, or none named while a fit without a parameter at a bound beat the
+// baseline on the training data by the BIC margin. False for what is not a report.
+bool Undecided(const std::string& report_json);
+
 // A plan's JSON (gaitforge-sim plan) in words: the recordings to make, what each separates,
 // and the pairs no candidate decides. An error when it is not a plan.
 absl::StatusOr<std::string> PlanWords(const std::string& json, const std::string& where);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 #include "services/diagnosis/locate.h"
+#include "services/diagnosis/plan.h"
 #include "services/diagnosis/range.h"
 #include "services/diagnosis/struct_fields.h"
 #include "workers/effects/effects.h"
@@ -163,18 +166,6 @@ std::string Verdict(const Struct& r) {
   return out;
 }
 
-// Whether the recordings left explanations the data could not tell apart: an ambiguous
-// verdict, or none named while a fit beat the baseline on the training data by the margin.
-bool Undecided(const Struct& r) {
-  if (S(r, "verdict") == "ambiguous") return true;
-  if (S(r, "verdict") != "none") return false;
-  const double margin = N(O(r, "rule"), "margin");
-  for (const auto& v : Field(r, "runners_up").list_value().values())
-    if (N(v.struct_value(), "delta_bic") < -margin && Field(v.struct_value(), "at_bound").list_value().values_size() == 0)
-      return true;
-  return false;
-}
-
 // Where it showed (the locate script's summary), the figures, near ties and runners-up.
 std::string Details(const Struct& r, const std::string& dir) {
   const Unit u = UnitOf(r);
@@ -224,11 +215,21 @@ std::string Details(const Struct& r, const std::string& dir) {
                               S(c, "why_not")));
   }
   absl::StrAppend(&out, "  report: ", dir, "/diagnosis.json\n");
-  if (Undecided(r))
-    absl::StrAppend(&out, "  the recordings that would decide: gaitforge diagnose plan SPEC --report ",
-                    dir, "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "
-                    "decides\")\n");
   return out;
+}
+
+// The recordings that would decide, when the data left explanations undecided: the plan the
+// diagnosis made (dir/plan.json) in words, or how to make one.
+std::string PlanPart(const std::string& report_json, const std::string& dir) {
+  if (!plan::Undecided(report_json)) return "";
+  std::ifstream in(dir + "/plan.json", std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (auto words = plan::PlanWords(text.str(), dir + "/plan.json"); in && words.ok())
+    return absl::StrCat("the recordings that would decide (", dir, "/plan.json):\n", *words);
+  return absl::StrCat("  the recordings that would decide: gaitforge diagnose plan SPEC --report ",
+                      dir, "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "
+                      "decides\")\n");
 }
 
 }  // namespace
@@ -245,7 +246,8 @@ absl::StatusOr<std::string> ReportWords(const std::string& report_json, const st
     if (const size_t at = verdict.find(was); !was.empty() && at != std::string::npos)
       verdict.replace(at, was.size(), where + "/corrected-model.yaml");
   }
-  return absl::StrCat("diagnosis ", S(r, "name"), ": ", verdict, Details(r, where));
+  return absl::StrCat("diagnosis ", S(r, "name"), ": ", verdict, Details(r, where),
+                      PlanPart(report_json, where));
 }
 
 }  // namespace gaitforge::diagnosis

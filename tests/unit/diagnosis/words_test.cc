@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace gaitforge::diagnosis {
@@ -40,6 +42,37 @@ TEST(ReportWords, NamesTheLocatedFilesOnlyWhenTheyWereWritten) {
   ASSERT_TRUE(w.ok()) << w.status();
   EXPECT_EQ(w->find("located.json"), std::string::npos) << *w;
   EXPECT_NE(w->find("where the mismatch lives: not located"), std::string::npos) << *w;
+}
+
+// A verdict the recordings could not decide ends with the plan the diagnosis kept beside
+// its report (plan.json), in words; without one, with the command that makes it. A found
+// effect whose rivals lost on their own terms needs none.
+TEST(ReportWords, AnUndecidedVerdictEndsWithThePlanOfTheRecordingsThatWouldDecide) {
+  auto found = ReportWords(kFound);
+  ASSERT_TRUE(found.ok());
+  EXPECT_EQ(found->find("would decide"), std::string::npos) << *found;
+  std::string ambiguous = kFound;
+  const std::string found_verdict = R"("verdict": "found")";
+  ambiguous.replace(ambiguous.find(found_verdict), found_verdict.size(),
+                    R"("verdict": "ambiguous")");
+  const std::string dir = ::testing::TempDir() + "/words-plan";
+  std::filesystem::create_directories(dir);
+  std::filesystem::remove(dir + "/plan.json");
+  auto hint = ReportWords(ambiguous, dir);
+  ASSERT_TRUE(hint.ok());
+  EXPECT_NE(hint->find("gaitforge diagnose plan SPEC --report " + dir + "/diagnosis.json"),
+            std::string::npos) << *hint;
+  std::ofstream(dir + "/plan.json") << R"({"robot": "caterpillar", "residual": 0.0005,
+    "decisive": 2, "explanations": [{"id": "none"}, {"id": "tether.constant"}],
+    "plan": [{"name": "gait-a.csv, three times as long", "genes": {"T": 1.2}, "cycles": 30,
+              "period_s": 1.2, "duration_s": 36, "ratio": [5.5]}],
+    "pairs": [{"pair": ["none", "tether.constant"], "best_ratio": 5.5, "decided": true}]})";
+  auto planned = ReportWords(ambiguous, dir);
+  ASSERT_TRUE(planned.ok());
+  EXPECT_NE(planned->find("the recordings that would decide (" + dir + "/plan.json):"),
+            std::string::npos) << *planned;
+  EXPECT_NE(planned->find("1. gait-a.csv, three times as long: 30 cycles"), std::string::npos)
+      << *planned;
 }
 
 TEST(ReportWords, AFoundEffectWithItsMagnitudesInGeneOrderAndTheRunnersUp) {
