@@ -1,5 +1,8 @@
 #include "workers/effects/effects.h"
 
+#include <cmath>
+#include <stdexcept>
+
 #include <algorithm>
 #include <set>
 
@@ -63,8 +66,9 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Finite, direction-dependent friction",
        "Finite Coulomb friction of the feet with one coefficient for sliding forward and "
        "another for sliding backward (texture of the soft feet, a ratchet-like contact), "
-       "chosen per lump by the sign of its x velocity. 0 keeps the model's no-slip ground in "
-       "that direction, so the range is not continuous at 0.",
+       "chosen per lump by the sign of its x velocity. 0 keeps the model's own ground in that "
+       "direction (no slip for the caterpillar), so the range is not continuous at 0; a "
+       "robot with finite friction is as it is at its own coefficient, where fits start.",
        {{"effect.friction_forward", 0, 3, 0, ""}, {"effect.friction_backward", 0, 3, 0, ""}},
        "Feet that slip: markers of lumps that should stand still drift during their "
        "neighbours' strokes. Easy backward slip loses travel (the evolved forward gait even "
@@ -279,8 +283,33 @@ std::vector<EffectInfo> EffectsFor(const robots::RobotDescriptor& d) {
   return all;
 }
 
+namespace {
+
+// The robot's own ground friction coefficient, when it is finite and positive (0 otherwise:
+// none, no slip, or a parameter the descriptor lacks).
+double GroundFriction(const robots::RobotDescriptor& d) {
+  if (!d.ground) return 0;
+  try {
+    const double mu = d.ground->friction.Eval([&](const std::string& n) { return d.Value(n); });
+    return std::isfinite(mu) && mu > 0 ? mu : 0;
+  } catch (const std::out_of_range&) {
+    return 0;
+  }
+}
+
+}  // namespace
+
 std::optional<EffectInfo> FindEffect(std::string_view id, const robots::RobotDescriptor& d) {
-  if (const EffectInfo* e = FindEffect(id)) return *e;
+  if (const EffectInfo* e = FindEffect(id)) {
+    EffectInfo out = *e;
+    // Direction-dependent friction leaves a finite-friction robot as it is at its own
+    // coefficient in both directions, not at 0 (which stands for it but is no point of a
+    // continuous range): a fit starts there and the range rule reads "no effect" there.
+    if (const double mu = GroundFriction(d); id == "friction.anisotropic" && mu > 0)
+      for (auto& p : out.params)
+        if (mu >= p.lo && mu <= p.hi) p.nominal = mu;
+    return out;
+  }
   for (EffectInfo& e : EffectsFor(d))
     if (e.id == id) return std::move(e);
   return std::nullopt;

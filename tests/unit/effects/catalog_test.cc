@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "robots/registry.h"
 #include "workers/effects/effects.h"
 
 namespace gaitforge::effects {
@@ -40,6 +41,28 @@ TEST(EffectCatalog, EachParameterOnceWithItsNominalInRange) {
       EXPECT_LE(p.nominal, p.hi) << p.name;
     }
   }
+}
+
+}  // namespace
+}  // namespace gaitforge::effects
+
+namespace gaitforge::effects {
+namespace {
+
+// Direction-dependent friction leaves a robot as it is at the robot's own coefficient: a
+// finite-friction walker's fits start at 0.6 both ways; the no-slip caterpillar's at 0,
+// which stands for its own ground.
+TEST(EffectCatalog, DirectionalFrictionStartsAtTheRobotsOwnCoefficient) {
+  const robots::RobotDescriptor* walker = robots::FindRobot("walker");
+  const robots::RobotDescriptor* caterpillar = robots::FindRobot("caterpillar");
+  ASSERT_TRUE(walker && caterpillar);
+  auto w = FindEffect("friction.anisotropic", *walker);
+  auto c = FindEffect("friction.anisotropic", *caterpillar);
+  ASSERT_TRUE(w && c);
+  ASSERT_EQ(w->params.size(), 2u);
+  for (const auto& p : w->params) EXPECT_DOUBLE_EQ(p.nominal, walker->Value("ground.friction_coefficient"));
+  for (const auto& p : c->params) EXPECT_DOUBLE_EQ(p.nominal, 0.0);
+  EXPECT_DOUBLE_EQ(FindEffect("ground.slope", *walker)->params[0].nominal, 0.0);
 }
 
 }  // namespace
