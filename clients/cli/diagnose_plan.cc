@@ -4,18 +4,15 @@
 // model build) on the spec's recordings with the report's explanations; prints the plan in
 // words (--json: its JSON) and writes the JSON to --output (default: plan.json beside the
 // report).
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
-#include "absl/strings/str_join.h"
 #include "clients/cli/cli.h"
 #include "clients/cli/processes.h"
+#include "services/core/file_text.h"
+#include "services/diagnosis/fits.h"
 #include "services/diagnosis/plan.h"
 #include "services/diagnosis/plan_command.h"
 
@@ -47,13 +44,6 @@ std::vector<std::string> RecordingFiles(const std::string& spec_path, const v1::
   return files;
 }
 
-std::string ReadWhole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args,
@@ -66,7 +56,7 @@ int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args
   }
   v1::DiagnosisSpec d;
   if (int c = ReadDiagnosisSpec(args[0], &d); c) return c;
-  const std::string report = ReadWhole(p.report);
+  const std::string report = core::ReadWholeFile(p.report).value_or("");
   if (report.empty()) {
     std::cerr << "gaitforge: --report: cannot read " << p.report
               << " (gaitforge diagnose writes it as --out/NAME-diagnosis/diagnosis.json)\n";
@@ -79,16 +69,12 @@ int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args
   }
   const std::vector<std::string> recordings = RecordingFiles(args[0], d);
   if (recordings.empty()) return kUsage;
-  std::string robot_file;  // a descriptor the spec carries, for gaitforge-sim
-  if (!d.robot_descriptor().empty()) {
-    robot_file = (fs::temp_directory_path() / absl::StrCat("gaitforge-plan-", getpid(), ".yaml")).string();
-    std::ofstream(robot_file) << d.robot_descriptor();
-  }
+  // The robot as gaitforge-sim takes it: a built-in name, or the descriptor the spec
+  // carries in a file (as the diagnosis's fits have it).
+  const std::string robot = diagnosis::RobotArg(d);
   std::string json;
-  const int code = RunCapture(
-      diagnosis::PlanCommand(d, robot_file.empty() ? d.robot() : robot_file, recordings, p, *model),
-      &json);
-  if (!robot_file.empty()) fs::remove(robot_file);
+  const int code =
+      RunCapture(diagnosis::PlanCommand(d, robot.empty() ? d.robot() : robot, recordings, p, *model), &json);
   if (code != 0) return code == 2 ? kUsage : code;
   const std::string out =
       output.empty() ? (fs::path(p.report).parent_path() / "plan.json").string() : output;

@@ -9,6 +9,7 @@
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 #include "google/protobuf/util/message_differencer.h"
+#include "services/core/file_text.h"
 #include "services/diagnosis/pipeline.h"
 #include "services/diagnosis/spec.h"
 #include "spdlog/spdlog.h"
@@ -161,10 +162,7 @@ absl::StatusOr<std::vector<std::string>> Materialize(
   return files;
 }
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string ReadBytes(const std::string& path) { return core::ReadWholeFile(path).value_or(""); }
 
 }  // namespace
 

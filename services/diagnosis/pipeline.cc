@@ -15,6 +15,7 @@
 #include "robots/controllers.h"
 #include "robots/count_override.h"
 #include "robots/registry.h"
+#include "services/core/file_text.h"
 #include "services/core/subprocess.h"
 #include "services/diagnosis/locate.h"
 #include "services/diagnosis/plan_command.h"
@@ -26,10 +27,7 @@ namespace gaitforge::diagnosis {
 namespace {
 
 std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return core::ReadWholeFile(path).value_or("");
 }
 
 // The gait period of the command a recording of `robot` holds (its controller kind).

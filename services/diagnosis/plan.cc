@@ -20,10 +20,6 @@ using google::protobuf::ListValue;
 using google::protobuf::Struct;
 using google::protobuf::Value;
 
-double Number(const Struct& s, const std::string& k, double fallback) {
-  const Value& v = Field(s, k);
-  return v.kind_case() == Value::kNumberValue ? v.number_value() : fallback;
-}
 
 absl::StatusOr<Struct> Parse(const std::string& json, const std::string& where) {
   Struct report;

@@ -15,6 +15,7 @@
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 #include "services/diagnosis/locate.h"
+#include "services/core/file_text.h"
 #include "services/diagnosis/plan.h"
 #include "services/diagnosis/range.h"
 #include "services/diagnosis/struct_fields.h"
@@ -26,10 +27,7 @@ namespace {
 using google::protobuf::Struct;
 using google::protobuf::Value;
 
-double N(const Struct& s, const std::string& k) {
-  const Value& v = Field(s, k);
-  return v.kind_case() == Value::kNumberValue ? v.number_value() : NAN;
-}
+double N(const Struct& s, const std::string& k) { return Number(s, k, NAN); }
 std::string S(const Struct& s, const std::string& k) { return Field(s, k).string_value(); }
 const Struct& O(const Struct& s, const std::string& k) { return Field(s, k).struct_value(); }
 std::string Json(const Value& v) {
@@ -222,10 +220,8 @@ std::string Details(const Struct& r, const std::string& dir) {
 // diagnosis made (dir/plan.json) in words, or how to make one.
 std::string PlanPart(const std::string& report_json, const std::string& dir) {
   if (!plan::Undecided(report_json)) return "";
-  std::ifstream in(dir + "/plan.json", std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (auto words = plan::PlanWords(text.str(), dir + "/plan.json"); in && words.ok())
+  const auto text = core::ReadWholeFile(dir + "/plan.json");
+  if (auto words = plan::PlanWords(text.value_or(""), dir + "/plan.json"); text.ok() && words.ok())
     return absl::StrCat("the recordings that would decide (", dir, "/plan.json):\n", *words);
   return absl::StrCat("  the recordings that would decide: gaitforge diagnose plan SPEC --report ",
                       dir, "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "

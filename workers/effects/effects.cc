@@ -67,7 +67,7 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Finite Coulomb friction of the feet with one coefficient for sliding forward and "
        "another for sliding backward (texture of the soft feet, a ratchet-like contact), "
        "chosen per lump by the sign of its x velocity. 0 keeps the model's own ground in that "
-       "direction (no slip for the caterpillar), so the range is not continuous at 0; a "
+       "direction (no slip where the ground has none), so the range is not continuous at 0; a "
        "robot with finite friction is as it is at its own coefficient, where fits start.",
        {{"effect.friction_forward", 0, 3, 0, ""}, {"effect.friction_backward", 0, 3, 0, ""}},
        "Feet that slip: markers of lumps that should stand still drift during their "

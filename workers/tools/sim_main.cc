@@ -18,6 +18,7 @@
 #include "absl/strings/str_split.h"
 #include "robots/count_override.h"
 #include "robots/registry.h"
+#include "services/core/file_text.h"
 #include "services/core/flags.h"
 #include "services/recording/recording.h"
 #include "workers/sim/ode_runtime.h"
@@ -32,12 +33,7 @@ using namespace gaitforge;
 namespace {
 
 // The whole file at `path` ("" when it cannot be read).
-std::string ReadWhole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string ReadWhole(const std::string& path) { return core::ReadWholeFile(path).value_or(""); }
 
 // The descriptor a --robot names: a file's text, or a built-in robot's.
 absl::StatusOr<std::pair<std::string, std::string>> RobotText(const std::string& arg) {

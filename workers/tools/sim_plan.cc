@@ -11,6 +11,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "robots/controllers.h"
+#include "services/core/file_text.h"
 #include "services/core/json_text.h"
 #include "services/diagnosis/plan.h"
 #include "workers/models/generic/generic_gait.h"
@@ -36,14 +37,6 @@ struct Setting {
   double rate_hz = 100;
   double residual = 0;  // the smallest training error of any explanation
 };
-
-absl::StatusOr<std::string> ReadText(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat(what, ": cannot read ", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The recordings' gaits (or playbacks: all of one kind) and their sampling rate (made a
 // whole number of the model's steps).
@@ -81,8 +74,8 @@ absl::Status ReadRecorded(const GenericRun& run, const PlanArgs& a, double times
 
 absl::StatusOr<Setting> Prepare(const GenericRun& run, const PlanArgs& a) {
   if (auto st = plan::Check(a.options); !st.ok()) return st;
-  auto report = ReadText(a.options.report, "--report");
-  if (!report.ok()) return report.status();
+  auto report = core::ReadWholeFile(a.options.report);
+  if (!report.ok()) return absl::NotFoundError(absl::StrCat("--report: ", report.status().message()));
   Setting s;
   auto explanations = plan::ExplanationsFromReport(*report, a.options.report, a.options.rivals);
   if (!explanations.ok()) return explanations.status();
