@@ -7,7 +7,7 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev libeigen3-dev libode-dev
-  libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev libcivetweb-dev openssl
+  libbenchmark-dev libyaml-cpp-dev prometheus-cpp-dev libcivetweb-dev openssl libjemalloc-dev
   # An independent build of the generic robots (workers/models/mujoco, issue 27).
   libmujoco-dev
   iproute2 nftables

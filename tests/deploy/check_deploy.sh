@@ -6,7 +6,9 @@
 # Kubernetes manifests have apiVersion/kind/metadata (+ StatefulSet, probes, grace period,
 # HPA metric); the compose file is consistent (ports, health checks, volume, scale);
 # `kubectl kustomize` renders the overlays; the Dockerfile's COPY sources exist and pass
-# its .dockerignore; its Debian packages exist; systemd units pass `systemd-analyze verify`.
+# its .dockerignore; its Debian packages exist; its build stage copies every source folder
+# and both stages install every library the binaries link (image_check.py); systemd units
+# pass `systemd-analyze verify`.
 # A tool that is not installed is skipped with a message (nothing is installed).
 #
 # Live, on loopback, with BIN_DIR's binaries (default: build/bin):
@@ -137,7 +139,7 @@ EOF
 if command -v apt-cache >/dev/null && apt-cache policy libc6 2>/dev/null | grep -c 'Candidate: [0-9]' >/dev/null; then
   # Every word of the apt-get install lines that looks like a package name.
   pkgs="$(sed -n '/apt-get install/,/rm -rf/p' "$df" | tr -s ' \134' '\n' |
-    grep -E '^(lib|python3|cmake|ninja|g\+\+|pkg-config|protobuf|tini|sqlite3|ca-cert|binutils)' | sort -u)"
+    grep -E '^(lib|python3|cmake|ninja|g\+\+|pkg-config|protobuf|prometheus|tini|sqlite3|ca-cert|binutils)' | sort -u)"
   missing=""
   for p in $pkgs; do
     apt-cache policy "$p" 2>/dev/null | grep -c 'Candidate: [0-9]' >/dev/null || missing="$missing $p"
@@ -145,6 +147,11 @@ if command -v apt-cache >/dev/null && apt-cache policy libc6 2>/dev/null | grep 
   if [ -z "$missing" ]; then pass "Debian packages exist: $(echo "$pkgs" | wc -l) names"; else fail "Dockerfile packages not in apt:$missing"; fi
 else
   skip "apt-cache has no package lists (Dockerfile package names)"
+fi
+if command -v objdump >/dev/null && command -v apt-cache >/dev/null && command -v dpkg >/dev/null; then
+  if out="$("$py" "$here/image_check.py" "$df" "$bin" 2>&1)"; then pass "Dockerfile: $out"; else fail "$out"; fi
+else
+  skip "objdump, dpkg or apt-cache missing (the image's sources and libraries)"
 fi
 if docker info >/dev/null 2>&1; then
   skip "docker daemon available, but the image build is not run here (2 cores; run it by hand)"
