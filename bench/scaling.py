@@ -16,10 +16,14 @@ Run from the repository root after ./scripts/build.sh, with the CPU to itself:
     /usr/bin/python3 bench/scaling.py [--workers 256 1024] [--evals 0.05 0.5]
         [--studies 1 4] [--dist constant|lognormal] [--goal] [--json FILE] [--figure FILE]
 --goal runs only the issue's two goal cells (500 ms at 1024 workers, 50 ms at 256).
+--anchor also runs the issue's anchor, Optuna's RDB storage on SQLite with K = N processes
+(bench/anchors/optuna_dispatch.py), for every one-study cell with N up to --anchor-max
+(64: more Python processes do not fit 2 cores), and prints both side by side.
 """
 import argparse
 import json
 import os
+import subprocess
 import sys
 import tempfile
 
@@ -88,6 +92,40 @@ def figure(rows, path):
     fig.savefig(path)
 
 
+def anchor(n, ev, seconds):
+    """Optuna's figures for K = n processes and ev-second trials (bench/anchors)."""
+    script = os.path.join(ROOT, "bench", "anchors", "optuna_dispatch.py")
+    out = subprocess.run([sys.executable, script, "--processes", str(n), "--eval", str(ev),
+                          "--seconds", str(seconds), "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def side_by_side(rows, anchors):
+    lines = ["%5s  %6s  %14s  %12s  %14s  %12s  %s" % (
+        "N", "eval", "gaitforge eff", "results/s", "optuna eff", "trials/s", "optuna ms/trial")]
+    for r in rows:
+        a = anchors.get((r["workers"], r["eval"]))
+        if a is None:
+            continue
+        lines.append("%5d  %6s  %14.3f  %12.0f  %14.3f  %12.1f  %.0f" % (
+            r["workers"], r["eval"].split(":")[1], r["efficiency"],
+            r["results_accepted"] / r["wall_s"], a["efficiency"], a["trials"] / a["wall_s"],
+            a["overhead_ms_per_trial"]))
+    return "\n".join(lines)
+
+
+def run_anchors(args, rows):
+    anchors = {}
+    for r in rows:
+        if r["studies"] == 1 and r["workers"] <= args.anchor_max and args.dist == "constant":
+            ev = float(r["eval"].split(":")[1])
+            anchors[(r["workers"], r["eval"])] = anchor(r["workers"], ev, args.anchor_seconds)
+    print("\nAnchor, same machine: Optuna's RDB storage, K = N processes on one SQLite file\n"
+          + side_by_side(rows, anchors), flush=True)
+    return list(anchors.values())
+
+
 def cells(args):
     if args.goal:
         return [(1024, 0.5, 1, w) for w in args.work] + [(256, 0.05, 1, w) for w in args.work]
@@ -110,6 +148,9 @@ def main():
     ap.add_argument("--json", help="write every cell's figures here")
     ap.add_argument("--figure", help="efficiency against N (SVG or PNG)")
     ap.add_argument("--coordinator-flag", action="append", default=[])
+    ap.add_argument("--anchor", action="store_true", help="also run Optuna (K = N processes)")
+    ap.add_argument("--anchor-max", type=int, default=64, help="largest N the anchor runs")
+    ap.add_argument("--anchor-seconds", type=float, default=20)
     args = ap.parse_args()
     rows = []
     for n, ev, st, work in cells(args):
@@ -121,9 +162,10 @@ def main():
         rows.append(r)
         print(table([r]).splitlines()[-1] if len(rows) > 1 else table([r]), flush=True)
     print("\n" + table(rows))
+    anchors = run_anchors(args, rows) if args.anchor else []
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(rows, f, indent=1)
+            json.dump({"cells": rows, "anchors": anchors}, f, indent=1)
     if args.figure:
         figure(rows, args.figure)
 
