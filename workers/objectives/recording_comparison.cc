@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/numbers.h"
@@ -113,18 +114,55 @@ absl::StatusOr<std::vector<Channel>> ChosenChannels(const recording::Recording& 
   return out;
 }
 
+// The best shift on the grid of `step` (a bin, a sample), refined to a fraction of it: the
+// minimum of error_at(fine) for fine within half a step either side of 0 (golden section;
+// error_at(0) is `grid`, the grid's best). A clock offset between a recording and the model
+// is rarely a whole number of steps, and a fast signal (a servo's step) misaligned by half a
+// step reads as an error many times the noise: without this a fit would have to find the
+// offset to a fraction of a step (docs/calibration.md, "Alignment"). `fine` gets the shift's
+// part off the grid, in seconds.
+ShiftedError RefinedShift(double step, const ShiftedError& grid,
+                          const std::function<ShiftedError(double fine)>& error_at,
+                          double* fine) {
+  *fine = 0;
+  if (!(step > 0)) return grid;
+  constexpr double kGolden = 0.6180339887498949;
+  constexpr int kIterations = 12;  // the half step shrinks to 0.3% of a step
+  double a = -0.5 * step, b = 0.5 * step;
+  double x1 = b - kGolden * (b - a), x2 = a + kGolden * (b - a);
+  ShiftedError f1 = error_at(x1), f2 = error_at(x2);
+  for (int i = 0; i < kIterations; ++i) {
+    if (f1.error <= f2.error) {
+      b = x2, x2 = x1, f2 = f1, x1 = b - kGolden * (b - a), f1 = error_at(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2, x2 = a + kGolden * (b - a), f2 = error_at(x2);
+    }
+  }
+  const bool first = f1.error <= f2.error;
+  const ShiftedError& best = first ? f1 : f2;
+  if (!(best.error < grid.error)) return grid;
+  *fine = first ? x1 : x2;
+  return best;
+}
+
 // Shape error of `channels` between the recording and the simulation, averaged over the
-// cycles [kb, ke) from recording time `origin` (simulated time origin + offset).
+// cycles [kb, ke) from recording time `origin` (simulated time origin + offset), at the best
+// shift: whole bins, then a fraction of one (RefinedShift; `fine_s`, seconds) unless
+// max_shift is 0 (the recording's clock is the model's).
 ShiftedError ShapeError(const recording::Recording& rec, const Trajectory& sim,
                         const std::vector<Channel>& channels, double period, int bins,
                         double origin, double offset, int64_t kb, int64_t ke, int max_shift,
-                        Metric metric, double* real_rms = nullptr) {
-  Signals real, simulated;
-  for (const Channel& c : channels) {
+                        Metric metric, double* real_rms = nullptr, double* fine_s = nullptr) {
+  Signals real;
+  for (const Channel& c : channels)
     real.push_back(PeriodAverage(rec.t, rec.columns[c.column], period, bins, origin, kb, ke));
-    simulated.push_back(
-        PeriodAverage(sim.t, sim.columns[c.sim], period, bins, origin + offset, kb, ke, max_shift));
-  }
+  const auto at = [&](double fine) {
+    Signals simulated;
+    for (const Channel& c : channels)
+      simulated.push_back(PeriodAverage(sim.t, sim.columns[c.sim], period, bins,
+                                        origin + offset + fine, kb, ke, max_shift));
+    return PaddedShiftInvariantError(metric, real, simulated, max_shift, true);
+  };
   if (real_rms) {
     double sum = 0;
     int64_t n = 0;
@@ -137,7 +175,11 @@ ShiftedError ShapeError(const recording::Recording& rec, const Trajectory& sim,
     }
     *real_rms = n ? std::sqrt(sum / static_cast<double>(n)) : 0;
   }
-  return PaddedShiftInvariantError(metric, real, simulated, max_shift, true);
+  double fine = 0;
+  const ShiftedError grid = at(0);
+  const ShiftedError best = max_shift > 0 ? RefinedShift(period / bins, grid, at, &fine) : grid;
+  if (fine_s) *fine_s = fine;
+  return best;
 }
 
 // What CompareRecording's stages share.
@@ -207,19 +249,25 @@ absl::Status Pointwise(Context& c) {
   if (times.empty())
     return absl::InvalidArgumentError(absl::StrCat(
         "no recorded sample lies after the settle cycles (simulated time ", lo, " s)"));
-  const auto best = MinimumOverShifts(c.s.max_shift, [&](int shift, std::vector<double>* offsets) {
-    Signals simulated(c.channels.size());
-    for (size_t k = 0; k < c.channels.size(); ++k) {
-      const std::vector<double>& x = c.sim.columns[c.channels[k].sim];
-      simulated[k].reserve(times.size());
-      for (double ts : times) simulated[k].push_back(Interpolate(c.sim.t, x, ts + shift * c.dt));
-    }
-    return PooledError(c.s.metric, real, simulated, 0, static_cast<int64_t>(times.size()), 0, true,
-                       offsets);
-  });
+  const auto at = [&](double fine) {
+    return MinimumOverShifts(c.s.max_shift, [&](int shift, std::vector<double>* offsets) {
+      Signals simulated(c.channels.size());
+      for (size_t k = 0; k < c.channels.size(); ++k) {
+        const std::vector<double>& x = c.sim.columns[c.channels[k].sim];
+        simulated[k].reserve(times.size());
+        for (double ts : times)
+          simulated[k].push_back(Interpolate(c.sim.t, x, ts + shift * c.dt + fine));
+      }
+      return PooledError(c.s.metric, real, simulated, 0, static_cast<int64_t>(times.size()), 0,
+                         true, offsets);
+    });
+  };
+  double fine = 0;
+  const ShiftedError grid = at(0);
+  const ShiftedError best = c.s.max_shift > 0 ? RefinedShift(c.dt, grid, at, &fine) : grid;
   c.out.error = best.error;
   c.out.shift = best.shift;
-  c.out.time_shift_s = best.shift * c.dt;
+  c.out.time_shift_s = best.shift * c.dt + fine;
   c.AddOffsets(c.channels, best.offsets);
   return absl::OkStatus();
 }
@@ -233,11 +281,12 @@ absl::Status Stats(Context& c) {
   if (!z.empty() && c.s.z_weight > 0) {
     const int shift = std::min(c.s.max_shift, c.bins / 2);
     double rms = 0;
+    double fine = 0;
     const auto best = ShapeError(c.rec, c.sim, z, c.period, c.bins, c.origin, c.offset, c.kb, c.ke,
-                                 shift, c.s.metric, &rms);
+                                 shift, c.s.metric, &rms, &fine);
     z_term = c.s.z_weight * best.error / std::max(rms, 1e-6);
     c.out.shift = best.shift;
-    c.out.time_shift_s = best.shift * c.period / c.bins;
+    c.out.time_shift_s = best.shift * c.period / c.bins + fine;
     c.AddOffsets(z, best.offsets);
   }
   Distance(c, c.out.time_shift_s);
@@ -443,11 +492,12 @@ absl::StatusOr<Comparison> CompareRecording(const recording::Recording& rec, dou
   if (s.mode == Mode::kShape) {
     if (c.kb >= c.ke) return c.NoCycles();
     const int shift = std::min(s.max_shift, bins / 2);
+    double fine = 0;
     const auto best = ShapeError(rec, sim, c.channels, period, bins, c.origin, offset, c.kb, c.ke,
-                                 shift, s.metric);
+                                 shift, s.metric, nullptr, &fine);
     c.out.error = best.error;
     c.out.shift = best.shift;
-    c.out.time_shift_s = best.shift * period / bins;
+    c.out.time_shift_s = best.shift * period / bins + fine;
     c.AddOffsets(c.channels, best.offsets);
   } else if (auto st = Pointwise(c); !st.ok()) {
     return st;

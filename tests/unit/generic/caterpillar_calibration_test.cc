@@ -230,6 +230,40 @@ TEST(CaterpillarCalibration, ComparedCyclesDoNotDependOnTheTimeOffset) {
   }
 }
 
+// A clock offset that is not a whole number of samples (a real recording's) is profiled out
+// like a whole one: the shift is found to a fraction of a sample, and the error is the same
+// wherever the time offset gene puts the clock within a sample. On the bins' grid alone a
+// fast signal misaligned by part of a sample reads as a large error, and a fit would have to
+// find the offset to a fraction of a sample.
+TEST(CaterpillarCalibration, ASubSampleClockOffsetIsProfiledOut) {
+  const double shift = (kShiftSamples + 0.37) * kDt;
+  static const auto rec = MakeRecording(Defaults(), kOffsetX, shift);
+  for (const std::string error : {"shape", "pointwise"}) {
+    std::vector<double> errors;
+    for (double fraction : {0.0, 0.2, 0.45}) {
+      objectives::EvalInput in = Input(8.8, 1.0, error);
+      in.recordings = {rec};
+      in.gene_names.push_back(calibration::kTimeOffsetGene);
+      in.genes.push_back(fraction * kDt);
+      const auto r = Eval(in);
+      ASSERT_TRUE(r.valid) << r.reason;
+      EXPECT_NEAR(r.metrics.at("time_shift_s_0") + fraction * kDt, shift, 0.02 * kDt)
+          << error << " gene at " << fraction << " of a sample";
+      errors.push_back(r.metrics.at("error"));
+    }
+    // Only the interpolation of the simulation between its samples is left (under 1 um).
+    for (double e : errors) EXPECT_LT(e, 1e-6) << error;
+  }
+  // The same force off its value still reads as an error far above that.
+  const auto off = Eval([&] {
+    objectives::EvalInput in = Input(10.0, 1.0, "shape");
+    in.recordings = {rec};
+    return in;
+  }());
+  ASSERT_TRUE(off.valid) << off.reason;
+  EXPECT_GT(off.metrics.at("error"), 1e-4);
+}
+
 TEST(CaterpillarCalibration, StatsModeMatchesAtTrueParameters) {
   const auto r = Eval(Input(8.8, 1.0, "stats"));
   ASSERT_TRUE(r.valid) << r.reason;
