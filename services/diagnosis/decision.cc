@@ -143,13 +143,15 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
       d.named.push_back(winners[i]);
   if (d.named.size() == 1) {
     // A rival with no effect in common that fits the training data better by the margin and
-    // that the held-out data cannot show to be worse: the held-out gain alone does not tell
-    // the two apart.
+    // that the held-out data cannot show to be worse (not consistently across the numeric
+    // variants, or by no more than the held-out error's own numeric spread): the held-out
+    // gain alone does not tell the two apart.
     int rival = -1;
     for (int i = 0; i < static_cast<int>(fits.size()); ++i) {
       const FitScore& f = fits[i];
       if (!f.ok || f.at_bound || Overlaps(f, w) || !(f.bic < w.bic - rule.margin)) continue;
-      if (!(PairedT(w.held_variants, f.held_variants) > -rule.paired_t)) continue;
+      const bool within_floor = f.held - w.held <= rule.held_floor;
+      if (!within_floor && !(PairedT(w.held_variants, f.held_variants) > -rule.paired_t)) continue;
       if (rival < 0 || f.bic < fits[rival].bic) rival = i;
     }
     if (rival >= 0) d.named.push_back(rival);

@@ -26,6 +26,10 @@ struct DecisionRule {
   double paired_t = 2.015;      // and wins the paired comparison across variants (one-sided
                                 // 5% at 5 degrees of freedom: six variants)
   double pair_gain = 0.05;      // a pair replaces its member only if 5% better held out
+  // The held-out error's own spread under numerically irrelevant variants (the baseline's
+  // sd across them): two explanations whose held-out errors differ by less cannot be told
+  // apart by the held-out recordings, however consistent the difference (Decide's rival).
+  double held_floor = 0;
   // How errors read in messages: positions (m) as mm; error = acceleration (relative) as %.
   double error_scale = 1000;
   std::string error_unit = "mm";

@@ -328,6 +328,7 @@ const RangeVerdict& Judge(RunState& s, const Candidate* c) {
 // (DecideRequired); a rival they do not require or pin is no rival (PreferDetermined).
 void DecideStage(RunState& s) {
   s.rule.margin = s.d.margin();
+  s.rule.held_floor = s.floor_sd;
   s.decision = DecideRequired(
       s.base, std::vector<FitScore>(s.full.begin(), s.full.end()), s.rule,
       [&](int i) { return Judge(s, &s.full[i]).unneeded_effects; }, &s.set_aside);

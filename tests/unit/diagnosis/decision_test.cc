@@ -138,6 +138,29 @@ TEST(Decide, ARivalThatFitsFarBetterAndIsNotWorseHeldOutMakesItAmbiguous) {
   EXPECT_EQ(Decide(base, sharing, {}).verdict, "found");
 }
 
+TEST(Decide, ARivalWorseHeldOutByLessThanTheNumericSpreadMakesItAmbiguous) {
+  // The walker's slope-2 case (session 36, mm): a constant pull and the true slope fit the
+  // training data alike (the slope's BIC lower by 20); the pull is better held out on every
+  // numeric variant, but by 0.15 mm where the baseline's held-out error itself moves by
+  // 0.2 mm across those variants: the held-out recording cannot tell a slope from a pull.
+  const FitScore base = Fit({}, 0, {4.56, 4.94, 4.68, 4.38, 4.85, 4.73});
+  const std::vector<FitScore> fits = {
+      Fit({"tether.constant"}, -636.6, {1.83, 1.35, 1.34, 1.62, 1.49, 1.64}),
+      Fit({"ground.slope"}, -656.1, {1.83, 1.69, 1.43, 1.70, 1.56, 1.97})};
+  DecisionRule rule;
+  ASSERT_LT(PairedT(fits[0].held_variants, fits[1].held_variants), -rule.paired_t);
+  EXPECT_EQ(Decide(base, fits, rule).verdict, "found");  // without the spread: the pull
+  rule.held_floor = 0.2;
+  const Decision d = Decide(base, fits, rule);
+  EXPECT_EQ(d.verdict, "ambiguous");
+  ASSERT_EQ(d.named.size(), 2u);
+  EXPECT_EQ(d.named[0], 0);
+  EXPECT_EQ(d.named[1], 1);
+  // Worse by more than the spread, it is no rival.
+  rule.held_floor = 0.1;
+  EXPECT_EQ(Decide(base, fits, rule).verdict, "found");
+}
+
 TEST(PreferDetermined, ARivalTheDataDoNotPinIsNoRival) {
   // The foreign-soft case (session 8): model.resolution first (pinned to 20.6 .. 23.8),
   // the rival friction.anisotropic + tether.growing free over nearly all its values.
