@@ -19,6 +19,14 @@ double PairedT(const std::vector<double>& a, const std::vector<double>& b) {
   return mean > 0 ? INFINITY : mean < 0 ? -INFINITY : 0.0;
 }
 
+double SampleSd(const std::vector<double>& v) {
+  if (v.size() < 2) return 0;
+  double mean = 0, sq = 0;
+  for (double x : v) mean += x / static_cast<double>(v.size());
+  for (double x : v) sq += (x - mean) * (x - mean);
+  return std::sqrt(sq / static_cast<double>(v.size() - 1));
+}
+
 int LeadersToRefit(const std::vector<double>& train, int top, double tie, int max_extra) {
   const int n = static_cast<int>(train.size());
   int k = std::min(std::max(top, 0), n);
@@ -137,10 +145,15 @@ Decision Decide(const FitScore& base, const std::vector<FitScore>& fits, const D
   if (winners.empty()) return d;
   const FitScore& w = fits[winners[0]];
   d.named.push_back(winners[0]);
-  for (size_t i = 1; i < winners.size(); ++i)
-    if (std::fabs(fits[winners[i]].bic - w.bic) < rule.margin &&
-        fits[winners[i]].effects.size() == 1 && w.effects.size() == 1)
-      d.named.push_back(winners[i]);
+  for (size_t i = 1; i < winners.size(); ++i) {
+    const FitScore& f = fits[winners[i]];
+    if (f.effects.size() != 1 || w.effects.size() != 1) continue;
+    // Within the BIC margin, or apart by less than the model's own numeric spread on both the
+    // training and the held-out recordings: the data cannot tell the two apart.
+    const bool within_spread = std::fabs(f.train - w.train) <= rule.train_floor &&
+                               std::fabs(f.held - w.held) <= rule.held_floor;
+    if (std::fabs(f.bic - w.bic) < rule.margin || within_spread) d.named.push_back(winners[i]);
+  }
   if (d.named.size() == 1) {
     // A rival with no effect in common that fits the training data better by the margin and
     // that the held-out data cannot show to be worse (not consistently across the numeric

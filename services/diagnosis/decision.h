@@ -15,6 +15,7 @@ struct FitScore {
   std::vector<std::string> effects;   // catalog ids
   bool ok = false;                    // the fit produced a valid model
   double bic = NAN;                   // on the training error
+  double train = NAN;                 // the training error itself
   double held = NAN;                   // held-out error, mean over the numeric variants
   std::vector<double> held_variants;  // held-out error under each numeric variant
   bool at_bound = false;              // an effect parameter at the edge of its range
@@ -30,6 +31,10 @@ struct DecisionRule {
   // sd across them): two explanations whose held-out errors differ by less cannot be told
   // apart by the held-out recordings, however consistent the difference (Decide's rival).
   double held_floor = 0;
+  // The same on the training recordings (the uncalibrated model's sd across the variants):
+  // two passing single effects apart by less on both are a tie, however large the BIC
+  // difference (which counts every sample as independent, and a chaotic model's are not).
+  double train_floor = 0;
   // How errors read in messages: positions (m) as mm; error = acceleration (relative) as %.
   double error_scale = 1000;
   std::string error_unit = "mm";
@@ -60,6 +65,9 @@ bool AtBound(double x, double lo, double hi, double fraction = 0.02);
 // Paired t statistic of a - b over the variants (positive when b has the lower errors);
 // +-infinity when every difference is the same, NAN with fewer than two variants.
 double PairedT(const std::vector<double>& a, const std::vector<double>& b);
+
+// The sample standard deviation of v (n - 1 in the denominator); 0 with fewer than two.
+double SampleSd(const std::vector<double>& v);
 
 // Whether `fit` beats `base` on every criterion of `rule`. A fit with an effect parameter at
 // the edge of its catalog range is no explanation: the data asked for an implausible value,

@@ -27,7 +27,6 @@ struct Candidate : FitScore {
   std::string study_id;
   std::string reason;
   std::vector<double> values, spread;
-  double train = NAN;
   std::vector<std::string> bound_params;  // effect parameters at the edge of their range
   int k = 0;                          // fitted parameters (nuisances included)
 };

@@ -148,9 +148,7 @@ absl::Status Resolution(RunState& s) {
 void ScoreBase(RunState& s) {
   s.base.bic = s.Bic(s.base);
   ScoreHeldOut(s.base, s.in.held_files, s.d, s.in.dir + "/baseline-held");  // kept: located
-  double sq = 0;
-  for (double e : s.base.held_variants) sq += (e - s.base.held) * (e - s.base.held);
-  s.floor_sd = std::sqrt(sq / std::max<size_t>(1, s.base.held_variants.size() - 1));
+  s.floor_sd = SampleSd(s.base.held_variants);
   s.located = Locate(VariantErrors(s.base, s.in.train_files, s.d, s.in.dir + "/baseline-train"),
                      s.in.dir, "baseline-train", "located.json", "located.svg", s.r.note);
   s.located_held =
@@ -329,6 +327,7 @@ const RangeVerdict& Judge(RunState& s, const Candidate* c) {
 void DecideStage(RunState& s) {
   s.rule.margin = s.d.margin();
   s.rule.held_floor = s.floor_sd;
+  s.rule.train_floor = SampleSd(s.variant_train);
   s.decision = DecideRequired(
       s.base, std::vector<FitScore>(s.full.begin(), s.full.end()), s.rule,
       [&](int i) { return Judge(s, &s.full[i]).unneeded_effects; }, &s.set_aside);

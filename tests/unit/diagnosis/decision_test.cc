@@ -161,6 +161,38 @@ TEST(Decide, ARivalWorseHeldOutByLessThanTheNumericSpreadMakesItAmbiguous) {
   EXPECT_EQ(Decide(base, fits, rule).verdict, "found");
 }
 
+TEST(Decide, TwoSinglesApartByLessThanTheNumericSpreadAreATie) {
+  // The walker's slope-1 case (session 36, mm): a constant pull and the true slope both pass;
+  // the pull's training error is 0.04 mm lower, a BIC difference far past the margin, where
+  // the model's own training error moves by 0.27 mm across the numeric variants; held out
+  // they differ by 0.01 mm against a spread of 0.27.
+  const FitScore base = Fit({}, 0, {4.1, 4.6, 4.3, 4.0, 4.5, 4.4});
+  FitScore pull = Fit({"tether.constant"}, -700, {2.2, 1.9, 1.8, 2.1, 2.0, 2.2});
+  FitScore slope = Fit({"ground.slope"}, -631, {2.1, 2.0, 1.9, 2.1, 2.0, 2.2});
+  pull.train = 1.400;
+  slope.train = 1.441;
+  DecisionRule rule;
+  EXPECT_EQ(Decide(base, {pull, slope}, rule).verdict, "found");  // BIC alone: the pull
+  rule.train_floor = 0.27;
+  rule.held_floor = 0.27;
+  const Decision d = Decide(base, {pull, slope}, rule);
+  EXPECT_EQ(d.verdict, "ambiguous");
+  EXPECT_EQ(d.named.size(), 2u);
+  // Apart by more than the spread on either, it is no tie.
+  rule.train_floor = 0.03;
+  EXPECT_EQ(Decide(base, {pull, slope}, rule).verdict, "found");
+  rule.train_floor = 0.27;
+  slope.held_variants = {2.6, 2.5, 2.4, 2.6, 2.5, 2.7};
+  slope.held = 2.55;
+  EXPECT_EQ(Decide(base, {pull, slope}, rule).verdict, "found");
+}
+
+TEST(SampleSd, NMinusOneAndDegenerateCases) {
+  EXPECT_DOUBLE_EQ(SampleSd({}), 0);
+  EXPECT_DOUBLE_EQ(SampleSd({3}), 0);
+  EXPECT_NEAR(SampleSd({1, 2, 3, 4}), std::sqrt(5.0 / 3.0), 1e-12);
+}
+
 TEST(PreferDetermined, ARivalTheDataDoNotPinIsNoRival) {
   // The foreign-soft case (session 8): model.resolution first (pinned to 20.6 .. 23.8),
   // the rival friction.anisotropic + tether.growing free over nearly all its values.
