@@ -150,7 +150,9 @@ void Occlude(const std::string& path, int column) {
 // stiffness the baseline must fit and a marker occluded at times. At the model's own step
 // the candidates come close to the held-out rule (a delay cut 13% of the 15% it asks), as
 // the walker's null-1 did (tests/diagnosis/robots/README.md); with numerics first the
-// diagnosis moves to the finer step and every candidate fails clearly. The caterpillar's
+// diagnosis moves to a finer step and every candidate fails a test (session 36: with the
+// time shift refined within a sample, 0.75 ms instead of 0.25, and the two refitted
+// runners-up fail on the held-out recordings rather than the training ones). The caterpillar's
 // null cases, made by a reference rig, are the benchmark (tests/diagnosis/README.md).
 TEST(RobotStudy, TheGapFinderStaysSilentOnANullRecordedByFinerNumerics) {
   TempDir dir;
@@ -160,12 +162,15 @@ TEST(RobotStudy, TheGapFinderStaysSilentOnANullRecordedByFinerNumerics) {
   auto r = Diagnose(dir, "twobox-null", "numerics: first\n");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr(R"("verdict": "none")")) << r.out;
-  EXPECT_THAT(r.out, HasSubstr(R"("numerics": {"from_ms": 1, "at_ms": 0.25)")) << r.out;
-  // The refitted runners-up each say why they lost: no better fit at all.
+  // Numerics first moved the model to a finer step than its own 1 ms.
   std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"re("numerics": \{"from_ms": 1, "at_ms": ([0-9.]+))re")))
+      << r.out;
+  EXPECT_LT(std::stod(m[1]), 1.0) << r.out;
+  // The refitted runners-up each say why they lost, with a test they failed.
   std::string rest = r.out;
   int refused = 0;
-  const std::regex why(R"re("why_not": "fits the training data no better than the baseline)re");
+  const std::regex why(R"re("why_not": "(fits the training data|cuts the held-out error|a fitted parameter))re");
   for (; std::regex_search(rest, m, why); rest = m.suffix()) ++refused;
   EXPECT_EQ(refused, 2) << r.out;
 }
