@@ -11,6 +11,12 @@ independent builds, bench/diagnosis/rig2d.py (sub-lumps, penalty contact, 50 us 
 bench/independent/caterpillar_mujoco.cc (MuJoCo: generalised coordinates, soft convex
 contact, tendon pistons), with nothing concealed and with concealed hoses.
 
+--calibrate closes the loop through the structure, with nothing concealed: the three gaits
+and CALIBRATION_GAITS random ones recorded on each build, a calibration of what the model
+idealises (STRUCTURE: friction and contact, stiffness and damping, force, lump compliance)
+on all but one of them, and a robust study started from it (`objective.from_calibration`),
+measured on that build.
+
 --diagnose closes the loop on each build: three gaits recorded on the build with the strong
 hose concealed (make_cases.GAITS: two for training, one held out), `gaitforge diagnose` on
 them, and a robust study started from that diagnosis (`objective.from_diagnosis`); its
@@ -63,12 +69,24 @@ STRUCTURAL = ("    parameters:\n"
               "      - {name: scale.link_damping, lo: 0.5, hi: 2.0}\n")
 
 
-def spec(name, population, generations, robust, diagnosis="", structural=False):
+# --calibrate: what the ODE model idealises, fitted on recordings of the build (ranges wide
+# enough for any plausible build of the robot, not any one build's values), and the number
+# of random gaits recorded beside make_cases.GAITS.
+STRUCTURE = [("ground.friction_coefficient", 0.3, 5.0), ("ground.contact_cfm", 1e-6, 1e-3),
+             ("scale.link_stiffness", 0.5, 2.0), ("scale.link_damping", 0.3, 3.0),
+             ("actuators.force_n", 5.0, 12.0), ("effect.lump_compliance_per_mpa", 0.0, 5.0),
+             ("nuisance.time_offset_s", -0.05, 0.05)]
+CALIBRATION_GAITS = 3
+
+
+def spec(name, population, generations, robust, diagnosis="", structural=False, calibration=""):
     text = (f"name: {name}\nseed: 1\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
     if diagnosis:
         text += f"  from_diagnosis: {diagnosis}\n"
+    if calibration:
+        text += f"  from_calibration: {calibration}\n"
     if not robust:
         return text + "  params: {cycles: 1, settle_cycles: 2}\n"
     return text + ("  params: {cycles: 2, settle_cycles: 1}\n"
@@ -76,14 +94,14 @@ def spec(name, population, generations, robust, diagnosis="", structural=False):
                    "    statistic: mean_minus_sd\n    k: 0.5\n") + (STRUCTURAL if structural else "")
 
 
-def evolve(args, name, generations, robust, db=None, diagnosis="", structural=False):
+def evolve(args, name, generations, robust, db=None, diagnosis="", structural=False, calibration=""):
     if db is None:
         db = os.path.join(args.out, f"{name}.db")
         if os.path.exists(db):
             os.remove(db)
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
-        f.write(spec(name, args.population, generations, robust, diagnosis, structural))
+        f.write(spec(name, args.population, generations, robust, diagnosis, structural, calibration))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -163,24 +181,27 @@ def measure(sets, where, cycles):
     return achieved
 
 
+def record_one(build, path, genes, effects):
+    """One gait recorded on `build` as the gap finder's cases are (length, rate), with its
+    sidecar."""
+    if build == "rig2d":
+        times, markers = rig2d.simulate(genes, [effects], settle=make_cases.SETTLE,
+                                        cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+        rig2d.write_csv(path, times, markers[0])
+    else:
+        mujoco_caterpillar.record(path, genes, effects, settle=make_cases.SETTLE,
+                                  cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
+    with open(path + ".json", "w") as f:
+        json.dump({"robot": "caterpillar", "command": {"kind": "gait", "genes": genes}}, f)
+
+
 def record_case(args, build, folder):
     """The gap finder's three gaits recorded on `build` with the strong hose; returns the
     diagnosis spec's path."""
     files = {}
     for g, text in make_cases.GAITS.items():
-        genes = [float(x) for x in text.split(",")]
-        path = os.path.join(folder, f"gait-{g}.csv")
-        effects = SCENARIOS[STRONG_HOSE]
-        if build == "rig2d":
-            times, markers = rig2d.simulate(genes, [effects], settle=make_cases.SETTLE,
-                                            cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
-            rig2d.write_csv(path, times, markers[0])
-        else:
-            mujoco_caterpillar.record(path, genes, effects, settle=make_cases.SETTLE,
-                                      cycles=make_cases.CYCLES, rate_hz=make_cases.RATE_HZ)
-        with open(path + ".json", "w") as f:
-            json.dump({"robot": "caterpillar", "command": {"kind": "gait", "genes": genes}}, f)
-        files[g] = path
+        files[g] = os.path.join(folder, f"gait-{g}.csv")
+        record_one(build, files[g], [float(x) for x in text.split(",")], SCENARIOS[STRONG_HOSE])
     spec_path = os.path.join(folder, "diagnosis.yaml")
     with open(spec_path, "w") as f:
         f.write(f"name: hose-on-{build}\nseed: 1\nrobot: caterpillar\n"
@@ -216,6 +237,55 @@ def diagnose_and_evolve(args, build):
         return None, time.monotonic() - t0, f"{report['verdict']}: nothing to correct"
     db, wall = evolve(args, f"diagnosed-{build}", args.generations, True, db=db, diagnosis=ident)
     return db, time.monotonic() - t0, named
+
+
+def record_gaits(build, folder, effects):
+    """make_cases.GAITS and CALIBRATION_GAITS random gaits recorded on `build` (recording
+    length and rate as the gap finder's cases); returns their CSV paths."""
+    gaits = {g: [float(x) for x in text.split(",")] for g, text in make_cases.GAITS.items()}
+    rng = np.random.default_rng(3)
+    for i in range(CALIBRATION_GAITS):
+        gaits[f"r{i}"] = list(rng.random(12)) + [float(rng.uniform(0.2, 1.0))]
+    paths = []
+    for g, genes in gaits.items():
+        paths.append(os.path.join(folder, f"gait-{g}.csv"))
+        record_one(build, paths[-1], genes, effects)
+    return paths
+
+
+def calibrate_and_evolve(args, build):
+    """Calibrates the model's structure on recordings of `build` (nothing concealed), then
+    evolves robustly from that calibration. Returns (db, wall seconds, the fit)."""
+    folder = os.path.join(args.out, f"calibration-{build}")
+    os.makedirs(folder, exist_ok=True)
+    db = os.path.join(args.out, f"calibrated-{build}.db")
+    if os.path.exists(db):
+        os.remove(db)
+    paths = record_gaits(build, folder, {})
+    bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in STRUCTURE)
+    path = os.path.join(folder, "calibration.yaml")
+    with open(path, "w") as f:
+        f.write(f"name: structure-{build}\nseed: 1\nengine: cmaes\npopulation: 10\n"
+                f"generations: 200\nobjective:\n  name: caterpillar.calibration\n"
+                f"  options: {{error: shape, metric: rmse}}\n"
+                f"  recordings: [{', '.join(paths[:-1])}]\n  held_out: [{paths[-1]}]\n"
+                f"bounds:\n{bounds}cmaes: {{sigma0: 0.25, restarts: none, "
+                f"max_evaluations: {args.calibration_evaluations}}}\n")
+    gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
+    t0 = time.monotonic()
+    r = subprocess.run(gf + ["--out", folder, "local", path, "--workers", "2", "--dashboard", "off"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"transfer: calibration on {build} failed ({r.returncode}): {r.stderr[-2000:]}")
+    ident = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
+                                      check=True).stdout)["studies"][0]["study_id"]
+    hof = json.loads(subprocess.run(gf + ["hof", ident, "--json"], capture_output=True, text=True,
+                                    check=True).stdout)
+    genes = hof["entries"][0]["individual"]["genes"]
+    fit = {n: g for (n, *_), g in zip(STRUCTURE, genes)}
+    print(f"calibration on {build}: {fit} ({time.monotonic() - t0:.0f} s)", flush=True)
+    db, _ = evolve(args, f"calibrated-{build}", args.generations, True, db=db, calibration=ident)
+    return db, time.monotonic() - t0, fit
 
 
 def table(sets, where, achieved, walls):
@@ -254,6 +324,11 @@ def main():
     ap.add_argument("--builds", default="rig2d,mujoco", help="independent builds, comma separated")
     ap.add_argument("--diagnose", action="store_true",
                     help="also diagnose the strong hose on each build and evolve from it")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="also calibrate the model's structure on each build (nothing concealed) "
+                         "and evolve robustly from that calibration")
+    ap.add_argument("--calibration-evaluations", type=int, default=800,
+                    help="--calibrate: CMA-ES evaluations of the calibration")
     ap.add_argument("--structural", action="store_true",
                     help="also a robust study whose ensemble samples the model's idealisations "
                          "(STRUCTURAL)")
@@ -265,7 +340,7 @@ def main():
     args = ap.parse_args()
     if args.quick:
         args.population, args.generations, args.gaits, args.cycles = 12, 3, 3, 2
-        args.screening, args.full = 24, 48
+        args.screening, args.full, args.calibration_evaluations = 24, 48, 40
     builds = args.builds.split(",")
     unknown = sorted(set(builds) - set(BUILDS))
     if unknown:
@@ -294,11 +369,18 @@ def main():
         if db:
             study = f"diagnosed-{build}"
             sets[study], where[study], walls[study] = gait_sets(db, True, args.gaits, study), [(build, STRONG_HOSE)], wall
+    fits = {}
+    for build in BUILDS if args.calibrate else ():
+        db, wall, fits[build] = calibrate_and_evolve(args, build)
+        study = f"calibrated-{build}"
+        sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
+                                                   [(build, "nothing concealed")], wall)
     achieved = measure(sets, where, args.cycles)
     rows = table(sets, where, achieved, walls)
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
         json.dump({"rows": rows, "population": args.population, "generations": args.generations,
-                   "paper_long_generations": longer, "diagnoses": named}, f, indent=1)
+                   "paper_long_generations": longer, "diagnoses": named,
+                   "calibrations": fits}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "services/coordinator/metrics.h"
 #include "services/coordinator/constraints.h"
+#include "services/coordinator/from_calibration.h"
 #include "services/coordinator/from_diagnosis.h"
 #include "services/spec/engine_kinds.h"
 #include "services/spec/spec_validation.h"
@@ -94,6 +95,8 @@ absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   if (options_.read_only)
     return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
   if (auto s = ResolveFromDiagnosis(*store_, &spec); !s.ok()) return s;
+  const SpreadFn spread = [this](const std::string& id, int g) { return SpreadAfter(id, g); };
+  if (auto s = ResolveFromCalibration(*store_, spread, &spec); !s.ok()) return s;
   spec::ApplyDefaults(&spec);
   if (auto s = spec::ValidationStatus(spec::Validate(spec)); !s.ok()) return s;
   if (auto s = recordings_->CheckExist(spec.objective().recordings(), "objective.recordings");

@@ -2,10 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "services/coordinator/corrected_model.h"
 #include "gaitforge/v1/diagnosis.pb.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
@@ -18,28 +18,30 @@ using google::protobuf::Value;
 
 const std::string kField = "objective.from_diagnosis";
 
-// The fitted ranges of the named effect's parameters: (name, lo, hi).
+// The fitted ranges of the named explanation's parameters (every effect it names):
+// (name, lo, hi).
 std::vector<std::tuple<std::string, double, double>> FittedRanges(const std::string& report) {
   Struct r;
   if (!google::protobuf::util::JsonStringToMessage(report, &r).ok()) return {};
   const auto effects = r.fields().find("effects");
-  if (effects == r.fields().end() || effects->second.list_value().values_size() == 0) return {};
-  const Struct& named = effects->second.list_value().values(0).struct_value();
+  if (effects == r.fields().end()) return {};
   std::vector<std::tuple<std::string, double, double>> out;
-  const auto params = named.fields().find("params");
-  if (params == named.fields().end()) return out;
-  for (const auto& [name, v] : params->second.struct_value().fields()) {
-    const auto& f = v.struct_value().fields();
-    if (!f.count("value") || !f.count("sd") || !f.count("range")) continue;  // the time offset
-    const double value = f.at("value").number_value(), sd = f.at("sd").number_value();
-    const auto& range = f.at("range").list_value();
-    const auto side = [&](int i, double open) {
-      return range.values_size() == 2 && range.values(i).kind_case() == Value::kNumberValue
-                 ? range.values(i).number_value()
-                 : open;
-    };
-    const double lo = side(0, value - 2 * sd), hi = side(1, value + 2 * sd);
-    if (std::isfinite(lo) && std::isfinite(hi) && lo < hi) out.emplace_back(name, lo, hi);
+  for (const Value& effect : effects->second.list_value().values()) {
+    const auto params = effect.struct_value().fields().find("params");
+    if (params == effect.struct_value().fields().end()) continue;
+    for (const auto& [name, v] : params->second.struct_value().fields()) {
+      const auto& f = v.struct_value().fields();
+      if (!f.count("value") || !f.count("sd") || !f.count("range")) continue;  // the time offset
+      const double value = f.at("value").number_value(), sd = f.at("sd").number_value();
+      const auto& range = f.at("range").list_value();
+      const auto side = [&](int i, double open) {
+        return range.values_size() == 2 && range.values(i).kind_case() == Value::kNumberValue
+                   ? range.values(i).number_value()
+                   : open;
+      };
+      const double lo = side(0, value - 2 * sd), hi = side(1, value + 2 * sd);
+      if (std::isfinite(lo) && std::isfinite(hi) && lo < hi) out.emplace_back(name, lo, hi);
+    }
   }
   return out;
 }
@@ -77,20 +79,9 @@ absl::Status ResolveFromDiagnosis(storage::StudyStore& store, v1::StudySpec* spe
     o->set_robot(d.robot());
     o->set_robot_descriptor(robot.empty() ? d.robot_descriptor() : robot);
   }
-  const std::string set = model["options"]["set"].as<std::string>("");
-  std::string& own = (*o->mutable_options())["set"];
-  own = own.empty() ? set : set + "," + own;
-  if (own.empty()) o->mutable_options()->erase("set");
+  PrependSet(o, model["options"]["set"].as<std::string>(""));
   if (!o->has_robust()) return absl::OkStatus();
-  for (const auto& [param, lo, hi] : FittedRanges(rec->report)) {
-    const auto& listed = o->robust().parameters();
-    if (std::any_of(listed.begin(), listed.end(), [&](const auto& p) { return p.name() == param; }))
-      continue;
-    auto* p = o->mutable_robust()->add_parameters();
-    p->set_name(param);
-    p->set_lo(lo);
-    p->set_hi(hi);
-  }
+  for (const auto& [param, lo, hi] : FittedRanges(rec->report)) AddEnsembleRange(o, param, lo, hi);
   return absl::OkStatus();
 }
 

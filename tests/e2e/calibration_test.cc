@@ -164,6 +164,37 @@ cmaes:
   EXPECT_LE(error_of("held_out_after"), error_of("held_out_before") * 1.05);
   for (const char* f : {"-overlays.svg", "-errors.svg", "-distance-ratio.svg"})
     EXPECT_NE(ReadFile(dir.File("runs/plots/" + id + f)).find("<svg"), std::string::npos) << f;
+
+  // Closing the loop from the calibration: a robust gait study on the fitted model, its
+  // ensemble over the fit's spread, predicting with an interval.
+  WriteFile(dir.File("gait.yaml"), "name: from-calib\nseed: 1\npopulation: 6\ngenerations: 2\n"
+                                   "ga: {elite: 2}\nobjective:\n  name: caterpillar.distance\n"
+                                   "  from_calibration: " + id +
+                                       "\n  params: {cycles: 1, settle_cycles: 1}\n"
+                                       "  robust: {members: 3}\n");
+  auto gait = RunCommand(cli + "local gait.yaml --workers 2 --dashboard off");
+  ASSERT_EQ(gait.exit_code, 0) << gait.err;
+  std::smatch m;
+  const std::string studies = RunCommand(cli + "list --json").out;
+  ASSERT_TRUE(std::regex_search(studies, m, std::regex(R"re("study_id":\s*"(from-calib[^"]*)")re")))
+      << studies;
+  const std::string show = RunCommand(cli + "show " + m[1].str() + " --json").out;
+  EXPECT_TRUE(std::regex_search(show, std::regex(R"re("set":\s*"actuators.force_n=[0-9.]+,scale.link_stiffness=[0-9.]+")re")))
+      << show;
+  EXPECT_TRUE(std::regex_search(show, std::regex(R"re("parameters":\s*\[\s*\{\s*"name":\s*"actuators.force_n",\s*"lo")re")))
+      << show;
+  EXPECT_EQ(show.find("nuisance.time_offset_s="), std::string::npos) << show;
+  EXPECT_NE(RunCommand(cli + "hof " + m[1].str()).out.find("PREDICTED [MIN, MAX]"), std::string::npos);
+  // A study that is no calibration is refused, naming the field.
+  WriteFile(dir.File("bad-gait.yaml"), std::regex_replace(ReadFile(dir.File("gait.yaml")),
+                                                          std::regex("from_calibration: .*"),
+                                                          "from_calibration: " + m[1].str()));
+  auto bad_gait = RunCommand(cli + "local bad-gait.yaml --workers 1 --dashboard off");
+  EXPECT_NE(bad_gait.exit_code, 0);
+  EXPECT_NE(bad_gait.err.find("objective.from_calibration: study " + m[1].str() +
+                              " is a caterpillar.distance study, not a calibration"),
+            std::string::npos)
+      << bad_gait.err;
 }
 
 // A diagnosis spec with a bad field is refused before anything runs: exit 2, the file and

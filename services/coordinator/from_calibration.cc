@@ -1,0 +1,97 @@
+#include "services/coordinator/from_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "robots/registry.h"
+#include "services/coordinator/corrected_model.h"
+#include "services/core/objective_catalog.h"
+
+namespace gaitforge::coordinator {
+namespace {
+
+const std::string kField = "objective.from_calibration";
+
+// The gait objective of the robot a calibration objective fits; empty when it has none.
+std::string GaitObjectiveOf(const core::ObjectiveInfo& calibration) {
+  if (calibration.calibrates.empty()) return "robot.distance";
+  return robots::Robot(calibration.calibrates).distance_objective;
+}
+
+bool IsNuisance(const core::ObjectiveInfo& info, const std::string& gene) {
+  return std::find(info.nuisance.begin(), info.nuisance.end(), gene) != info.nuisance.end();
+}
+
+}  // namespace
+
+absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibration,
+                              const std::vector<double>& best, const std::vector<double>& spread,
+                              v1::StudySpec* spec) {
+  const auto& fit = calibration.objective();
+  const core::ObjectiveInfo* info = core::FindObjective(fit.name());
+  if (info == nullptr || !info->calibration)
+    return absl::FailedPreconditionError(absl::StrCat(
+        kField, ": study ", id, " is a ", fit.name(), " study, not a calibration"));
+  if (best.size() != static_cast<size_t>(calibration.bounds_size()))
+    return absl::FailedPreconditionError(
+        absl::StrCat(kField, ": study ", id, "'s best has ", best.size(), " genes for ",
+                     calibration.bounds_size(), " bounds"));
+  const std::string name = GaitObjectiveOf(*info);
+  auto* o = spec->mutable_objective();
+  if (name.empty() || (!o->name().empty() && o->name() != name))
+    return absl::InvalidArgumentError(absl::StrCat(
+        kField, ": study ", id, " calibrates a model whose gait objective is '", name,
+        "', not '", o->name(), "'"));
+  o->set_name(name);
+  if (name == "robot.distance" && o->robot().empty() && o->robot_descriptor().empty()) {
+    o->set_robot(fit.robot());
+    o->set_robot_descriptor(fit.robot_descriptor());
+  }
+  std::vector<std::string> set;
+  if (fit.options().count("set") && !fit.options().at("set").empty())
+    set.push_back(fit.options().at("set"));
+  for (int i = 0; i < calibration.bounds_size(); ++i)
+    if (!IsNuisance(*info, calibration.bounds(i).name()))
+      set.push_back(absl::StrFormat("%s=%.9g", calibration.bounds(i).name(), best[i]));
+  PrependSet(o, absl::StrJoin(set, ","));
+  if (fit.params().count("timestep_ms") && !o->params().count("timestep_ms"))
+    (*o->mutable_params())["timestep_ms"] = fit.params().at("timestep_ms");
+  if (!o->has_robust()) return absl::OkStatus();
+  for (int i = 0; i < calibration.bounds_size() && i < static_cast<int>(spread.size()); ++i) {
+    const auto& b = calibration.bounds(i);
+    if (IsNuisance(*info, b.name()) || !std::isfinite(spread[i])) continue;
+    const double lo = std::max(b.lo(), best[i] - 2 * spread[i]);
+    const double hi = std::min(b.hi(), best[i] + 2 * spread[i]);
+    if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& spread_after,
+                                    v1::StudySpec* spec) {
+  const std::string id = spec->objective().from_calibration();
+  if (id.empty()) return absl::OkStatus();
+  if (!spec->objective().from_diagnosis().empty())
+    return absl::InvalidArgumentError(absl::StrCat(
+        kField, ": a study starts from a calibration or from a diagnosis, not both"));
+  auto rec = store.GetStudy(id);
+  if (!rec.ok()) return absl::NotFoundError(absl::StrCat(kField, ": no study with id '", id, "'"));
+  if (rec->state != "completed")
+    return absl::FailedPreconditionError(absl::StrCat(
+        kField, ": study ", id, " is ", rec->state, "; a study starts from a completed one"));
+  v1::StudySpec calibration;
+  if (!calibration.ParseFromString(rec->spec))
+    return absl::DataLossError(absl::StrCat(kField, ": study ", id, "'s stored spec is unreadable"));
+  if (auto s = store.Flush(); !s.ok()) return s;
+  auto hof = store.HallOfFame(id, std::nullopt);
+  if (!hof.ok() || hof->second.empty() || !hof->second[0].valid)
+    return absl::FailedPreconditionError(
+        absl::StrCat(kField, ": study ", id, " has no valid fit in its hall of fame"));
+  return ApplyCalibration(id, calibration, hof->second[0].genes,
+                          spread_after(id, hof->first), spec);
+}
+
+}  // namespace gaitforge::coordinator

@@ -1,0 +1,38 @@
+#pragma once
+// A gait study that starts from a calibration study (objective.from_calibration;
+// docs/objectives.md, "From a calibration"): the fitted parameters become the gait
+// objective's model, and with objective.robust their search spread becomes ensemble ranges,
+// so gaits are evolved for the robot the recordings describe (its structure too: friction,
+// contact, stiffness), over what the fit leaves open.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "gaitforge/v1/study.pb.h"
+#include "storage/study_store.h"
+
+namespace gaitforge::coordinator {
+
+// The final search distribution's sd per gene of study `id` after generation `g` (empty
+// when its engine keeps none).
+using SpreadFn = std::function<std::vector<double>(const std::string& id, int g)>;
+
+// Fills spec->objective from calibration study `id` (its stored spec, the best genes of its
+// hall of fame and their spread): the gait objective of the calibrated robot
+// (caterpillar.calibration -> caterpillar.distance, robot.calibration -> robot.distance with
+// its robot; a spec naming another is an error), option set = the calibration's own set, the
+// fitted values (not the nuisances), then the spec's own items (which win); the
+// calibration's timestep_ms unless the spec sets one; with robust, one parameter per fitted
+// value over value +- 2 sd inside the calibration's bounds, unless the spec lists it.
+absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibration,
+                              const std::vector<double>& best, const std::vector<double>& spread,
+                              v1::StudySpec* spec);
+
+// ApplyCalibration for objective.from_calibration (no-op when unset). NotFound for an
+// unknown study; FailedPrecondition for one not completed, not a calibration, or without a
+// valid best; InvalidArgument when from_diagnosis is set too.
+absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& spread_after,
+                                    v1::StudySpec* spec);
+
+}  // namespace gaitforge::coordinator

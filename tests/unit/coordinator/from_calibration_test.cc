@@ -1,0 +1,110 @@
+// A gait study from a calibration's fit (services/coordinator/from_calibration.h): which
+// objective, which overrides, which ensemble ranges, and the refusals.
+#include "services/coordinator/from_calibration.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "services/coordinator/corrected_model.h"
+
+namespace gaitforge::coordinator {
+namespace {
+
+using ::testing::HasSubstr;
+
+v1::StudySpec Calibration(const std::string& objective) {
+  v1::StudySpec c;
+  c.mutable_objective()->set_name(objective);
+  for (const auto& [name, lo, hi] : std::vector<std::tuple<std::string, double, double>>{
+           {"actuators.force_n", 7.0, 11.0},
+           {"scale.link_stiffness", 0.7, 1.4},
+           {"nuisance.time_offset_s", -0.05, 0.05}}) {
+    auto* b = c.add_bounds();
+    b->set_name(name);
+    b->set_lo(lo);
+    b->set_hi(hi);
+  }
+  return c;
+}
+
+v1::StudySpec Gait(bool robust) {
+  v1::StudySpec g;
+  g.mutable_objective()->set_name("caterpillar.distance");
+  (*g.mutable_objective()->mutable_options())["set"] = "effect.slope_rad=0.05";
+  if (robust) g.mutable_objective()->mutable_robust();
+  return g;
+}
+
+const std::vector<double> kBest = {9.6, 1.15, 0.01}, kSpread = {0.1, 0.5, 0.002};
+
+TEST(FromCalibration, TheFitBecomesTheModelAndItsSpreadTheEnsemble) {
+  v1::StudySpec c = Calibration("caterpillar.calibration");
+  (*c.mutable_objective()->mutable_params())["timestep_ms"] = 0.5;
+  v1::StudySpec g = Gait(true);
+  ASSERT_TRUE(ApplyCalibration("cal-1", c, kBest, kSpread, &g).ok());
+  const auto& o = g.objective();
+  EXPECT_EQ(o.name(), "caterpillar.distance");
+  // The fitted values first, the spec's own items after (they win); no nuisance.
+  EXPECT_EQ(o.options().at("set"), "actuators.force_n=9.6,scale.link_stiffness=1.15,effect.slope_rad=0.05");
+  EXPECT_EQ(o.params().at("timestep_ms"), 0.5);
+  ASSERT_EQ(o.robust().parameters_size(), 2);
+  EXPECT_EQ(o.robust().parameters(0).name(), "actuators.force_n");
+  EXPECT_NEAR(o.robust().parameters(0).lo(), 9.4, 1e-12);
+  EXPECT_NEAR(o.robust().parameters(0).hi(), 9.8, 1e-12);
+  // +- 2 sd reaches past both bounds: clipped to the calibration's range.
+  EXPECT_EQ(o.robust().parameters(1).lo(), 0.7);
+  EXPECT_EQ(o.robust().parameters(1).hi(), 1.4);
+}
+
+TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay) {
+  v1::StudySpec g = Gait(false);
+  ASSERT_TRUE(ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, {}, &g).ok());
+  EXPECT_FALSE(g.objective().has_robust());
+  v1::StudySpec listed = Gait(true);
+  AddEnsembleRange(listed.mutable_objective(), "actuators.force_n", 8.0, 8.5);
+  ASSERT_TRUE(ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, kSpread, &listed).ok());
+  ASSERT_EQ(listed.objective().robust().parameters_size(), 2);
+  EXPECT_EQ(listed.objective().robust().parameters(0).lo(), 8.0);  // the spec's own
+}
+
+TEST(FromCalibration, ARobotCalibrationGivesThatRobotsDistance) {
+  v1::StudySpec c = Calibration("robot.calibration");
+  c.mutable_objective()->set_robot("walker");
+  (*c.mutable_objective()->mutable_options())["set"] = "ground.contact_cfm=2e-05";
+  v1::StudySpec g;
+  ASSERT_TRUE(ApplyCalibration("cal-2", c, kBest, kSpread, &g).ok());
+  EXPECT_EQ(g.objective().name(), "robot.distance");
+  EXPECT_EQ(g.objective().robot(), "walker");
+  EXPECT_EQ(g.objective().options().at("set"),
+            "ground.contact_cfm=2e-05,actuators.force_n=9.6,scale.link_stiffness=1.15");
+}
+
+TEST(FromCalibration, RefusesWhatIsNoCalibrationOrAnotherObjective) {
+  v1::StudySpec g = Gait(false);
+  auto not_cal = ApplyCalibration("ga-1", Gait(false), {0.1}, {}, &g);
+  EXPECT_EQ(not_cal.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(not_cal.message(), HasSubstr("objective.from_calibration: study ga-1 is a caterpillar.distance study, not a calibration"));
+  v1::StudySpec other;
+  other.mutable_objective()->set_name("robot.distance");
+  auto mismatch = ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, {}, &other);
+  EXPECT_EQ(mismatch.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(mismatch.message(), HasSubstr("gait objective is 'caterpillar.distance', not 'robot.distance'"));
+  auto short_best = ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), {9.6}, {}, &g);
+  EXPECT_EQ(short_best.code(), absl::StatusCode::kFailedPrecondition);
+}
+
+TEST(CorrectedModel, PrependSetKeepsTheSpecsItemsLastAndLeavesNoEmptySet) {
+  v1::ObjectiveSpec o;
+  PrependSet(&o, "");
+  EXPECT_FALSE(o.options().count("set"));
+  PrependSet(&o, "a=1");
+  EXPECT_EQ(o.options().at("set"), "a=1");
+  (*o.mutable_options())["set"] = "b=2";
+  PrependSet(&o, "a=1");
+  EXPECT_EQ(o.options().at("set"), "a=1,b=2");
+  PrependSet(&o, "");
+  EXPECT_EQ(o.options().at("set"), "a=1,b=2");
+}
+
+}  // namespace
+}  // namespace gaitforge::coordinator
