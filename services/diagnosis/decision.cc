@@ -86,6 +86,11 @@ bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule
   return Shortfall(base, fit, rule).empty();
 }
 
+bool StructureAdmits(const FitScore& base, const FitScore& fit, const DecisionRule& rule) {
+  return fit.ok && fit.bic - base.bic < -rule.margin && std::isfinite(fit.held) &&
+         fit.held <= base.held + rule.held_floor;
+}
+
 namespace {
 
 bool Contains(const FitScore& outer, const FitScore& inner) {

@@ -74,6 +74,12 @@ double SampleSd(const std::vector<double>& v);
 // the sign of a mismatch the effect only absorbs.
 bool BeatsBaseline(const FitScore& base, const FitScore& fit, const DecisionRule& rule);
 
+// structure: joint: the model's structural parameters refitted together (no missing physics
+// claimed, only the model's own idealisations corrected) join the baseline when they fit the
+// training data better by the BIC margin and predict the held-out recordings no worse than
+// the baseline beyond its numeric spread (rule.held_floor).
+bool StructureAdmits(const FitScore& base, const FitScore& fit, const DecisionRule& rule);
+
 // Singles are judged first; a fit that contains a passing fit's effects must beat it by the
 // margin and by pair_gain held out, and then replaces it. Of the passing explanations the one
 // with the lowest held-out error is named. "ambiguous" when another passing single effect is

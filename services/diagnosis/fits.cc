@@ -119,13 +119,15 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
 
 v1::DiagnosisSpec WithStructure(const v1::DiagnosisSpec& d, const Candidate& c) {
   v1::DiagnosisSpec out = d;
-  if (c.effects.size() != 1) return out;
-  const std::string& id = c.effects[0];
+  const auto joins = [&](const std::string& id) {
+    return std::find(c.effects.begin(), c.effects.end(), id) != c.effects.end();
+  };
   for (size_t i = 0; i < c.genes.size() && i < c.gene_effect.size(); ++i)
-    if (c.gene_effect[i] == id) *out.add_base_parameters() = c.genes[i];
+    if (!c.gene_effect[i].empty() && joins(c.gene_effect[i]))
+      *out.add_base_parameters() = c.genes[i];
   out.clear_candidates();
   for (const auto& other : d.candidates())
-    if (other != id) out.add_candidates(other);
+    if (!joins(other)) out.add_candidates(other);
   return out;
 }
 

@@ -47,8 +47,8 @@ std::string RobotArg(const v1::DiagnosisSpec& d);
 // offset), start point and parameter count.
 Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids);
 
-// d with c's single effect moved into the base model: its parameters become base
-// parameters over their ranges (fitted in every later study), and it leaves the candidates.
+// d with c's effects moved into the base model: their parameters become base
+// parameters over their ranges (fitted in every later study), and they leave the candidates.
 v1::DiagnosisSpec WithStructure(const v1::DiagnosisSpec& d, const Candidate& c);
 
 // What every fit's study names: the recordings (content hashes) and the training weights.

@@ -101,13 +101,18 @@ absl::Status Numerics(RunState& s) {
   return absl::OkStatus();
 }
 
+// The structure stages run (structure: first or joint).
+bool StructureOn(const v1::DiagnosisSpec& d) {
+  return d.structure() == "first" || d.structure() == "joint";
+}
+
 // 0b. Resolution (structure: first; robots with counts, such as the arm's lumps): while
 // twice a count, within its range, brings the uncalibrated model closer to the training
 // recordings by more than a fifth (the rule of numerics first), the diagnosis moves to that
 // model: a lumped model coarser than the robot must not pass its own discretisation error
 // off as an effect (docs/diagnosis.md, "Structure first").
 absl::Status Resolution(RunState& s) {
-  if (s.d.structure() != "first" || s.d.weighting() != "floor" || s.variant_train.empty())
+  if (!StructureOn(s.d) || s.d.weighting() != "floor" || s.variant_train.empty())
     return absl::OkStatus();
   auto robot = RobotOf(s.d);
   if (!robot.ok()) return absl::OkStatus();
@@ -176,7 +181,7 @@ absl::Status Baseline(RunState& s) {
 // parameters, so that screening ranks what each effect adds to the fitted model rather
 // than how far a short fit gets from the centre of every range.
 void StartFrom(const RunState& s, const Candidate& from, Candidate& c, bool hold) {
-  if (s.d.structure() != "first" || !from.ok) return;
+  if (!StructureOn(s.d) || !from.ok) return;
   for (size_t i = 0; i < c.genes.size() && i < c.mean0.size(); ++i)
     for (size_t j = 0; j < from.genes.size() && j < from.values.size(); ++j) {
       if (from.genes[j].name() != c.genes[i].name()) continue;
@@ -189,42 +194,61 @@ void StartFrom(const RunState& s, const Candidate& from, Candidate& c, bool hold
   c.sigma0 = hold ? 0.1 : 0.05;
 }
 
-// 2b. Structure first (structure: first): the candidates that say what the model gets
-// wrong everywhere (effects::IsStructural) are screened, the best refitted fully, and if
-// it beats the baseline as a discovery must (decision.h) it becomes the baseline: its
-// parameters join the base parameters of every later fit and it leaves the candidates, so
-// that the effects compete for what remains instead of with the structure.
-absl::Status Structure(RunState& s) {
-  if (s.d.structure() != "first") return absl::OkStatus();
-  std::vector<Candidate> tried;
-  for (const auto& id : s.d.candidates())
-    if (effects::IsStructural(id)) tried.push_back(Make(s.d, {id}));
-  std::vector<Candidate*> ptrs;
-  for (auto& c : tried) {
-    StartFrom(s, s.base, c, true);
-    ptrs.push_back(&c);
+// The structural candidates screened one by one, the lead refitted fully (structure:
+// first); every one of them together in one full fit (structure: joint). Not ok: none.
+absl::StatusOr<Candidate> FitStructure(RunState& s, const std::vector<std::string>& ids) {
+  std::vector<std::string> lead_ids = ids;
+  if (s.d.structure() == "first") {
+    std::vector<Candidate> tried;
+    for (const auto& id : ids) tried.push_back(Make(s.d, {id}));
+    std::vector<Candidate*> ptrs;
+    for (auto& c : tried) {
+      StartFrom(s, s.base, c, true);
+      ptrs.push_back(&c);
+    }
+    if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
+                          "structure", &s.reused);
+        !st.ok())
+      return st;
+    const Candidate* lead = nullptr;
+    for (const auto& c : tried)
+      if (c.ok && (!lead || c.train < lead->train)) lead = &c;
+    if (!lead) return Candidate{};
+    lead_ids = lead->effects;
   }
-  if (ptrs.empty()) return absl::OkStatus();
-  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
-                        "structure", &s.reused);
-      !st.ok())
-    return st;
-  const Candidate* lead = nullptr;
-  for (const auto& c : tried)
-    if (c.ok && (!lead || c.train < lead->train)) lead = &c;
-  if (!lead) return absl::OkStatus();
-  Candidate best = Make(s.d, lead->effects);
+  Candidate best = Make(s.d, lead_ids);
   StartFrom(s, s.base, best, false);
   std::vector<Candidate*> one = {&best};
   if (auto st = RunFits(s.studies, s.d, one, s.d.full_evaluations(), s.fit_inputs, s.r,
                         "structure", &s.reused);
       !st.ok())
     return st;
+  return best;
+}
+
+// 2b. Structure first (structure: first or joint): the candidates that say what the model
+// gets wrong everywhere (effects::IsStructural) are fitted (FitStructure), and if the fit
+// beats the baseline as a discovery must (first; decision.h) or as a correction of the
+// model's own idealisations may (joint: StructureAdmits) it becomes the baseline: its
+// parameters join the base parameters of every later fit and its effects leave the
+// candidates, so that the effects compete for what remains instead of with the structure.
+absl::Status Structure(RunState& s) {
+  if (!StructureOn(s.d)) return absl::OkStatus();
+  std::vector<std::string> ids;
+  for (const auto& id : s.d.candidates())
+    if (effects::IsStructural(id)) ids.push_back(id);
+  if (ids.empty()) return absl::OkStatus();
+  auto fitted = FitStructure(s, ids);
+  if (!fitted.ok()) return fitted.status();
+  Candidate best = *std::move(fitted);
   if (!best.ok) return absl::OkStatus();
   best.bic = s.Bic(best);
   ScoreHeldOut(best, s.in.held_files, s.d);
   s.rule.margin = s.d.margin();
-  if (!BeatsBaseline(s.base, best, s.rule)) {
+  s.rule.held_floor = s.floor_sd;
+  const bool joins = s.d.structure() == "joint" ? StructureAdmits(s.base, best, s.rule)
+                                                : BeatsBaseline(s.base, best, s.rule);
+  if (!joins) {
     s.r.note("structure: none required (the best, " + best.label + ", does not beat the baseline)");
     return absl::OkStatus();
   }

@@ -150,9 +150,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
       d.error() != "acceleration")
     return absl::InvalidArgumentError("field 'error': one of shape, pointwise, stats, acceleration");
   if (absl::Status s = CheckParams(d); !s.ok()) return s;
-  if (d.structure() != "off" && d.structure() != "first")
+  if (d.structure() != "off" && d.structure() != "first" && d.structure() != "joint")
     return absl::InvalidArgumentError(absl::StrCat("field 'structure': '", d.structure(),
-                                                   "' is not one of off, first"));
+                                                   "' is not one of off, first, joint"));
   if (d.numerics() != "off" && d.numerics() != "first")
     return absl::InvalidArgumentError(absl::StrCat("field 'numerics': '", d.numerics(),
                                                    "' is not one of off, first"));

@@ -208,7 +208,7 @@ def main():
     ap.add_argument("--weighting", default="", choices=["", "equal", "floor"],
                     help="the spec's weighting of the training recordings (default: the "
                          "diagnosis's own default)")
-    ap.add_argument("--structure", default="", choices=["", "off", "first"],
+    ap.add_argument("--structure", default="", choices=["", "off", "first", "joint"],
                     help="the spec's structure stage (docs/diagnosis.md, \"Structure first\"; "
                          "default: the diagnosis's own default)")
     ap.add_argument("--numerics", default="", choices=["", "off", "first"],

@@ -11,33 +11,36 @@ namespace gaitforge::effects {
 const std::vector<EffectInfo>& EffectCatalog() {
   static const std::vector<EffectInfo> catalog = {
       {"tether.constant",
-       "Hose tether, constant pull",
-       "The pneumatic supply hoses trail behind the robot and pull its rear lump (lump 1) "
-       "backwards (-x) with a constant force F at its centre. Paper 000 blames the hoses for "
-       "the hardware covering 35% of the simulated distance (11% to 74%). On the evolved "
-       "forward gait of the tests (about 3 cm per cycle) F = 1.05 to 1.1 N leaves about 35% "
-       "of the travel (timestep mean); from about 1.5 N the robot goes backwards.",
+       "Tether, constant pull",
+       "Something trailing behind the robot (supply hoses, a cable, a tether) pulls its first "
+       "body, by convention its rear (the caterpillar's lump 1), backwards (-x) with a constant "
+       "force F at its centre. Paper 000 blames its pneumatic hoses for the hardware covering "
+       "35% of the simulated distance (11% to 74%); on the caterpillar's evolved forward gait "
+       "(about 3 cm per cycle) F = 1.05 to 1.1 N leaves about 35% of the travel, and from "
+       "about 1.5 N it goes backwards.",
        {{"effect.tether_force_n", 0, 2.5, 0, "N"}},
        "Real travel per cycle shorter than simulated for every gait by a deficit that stays "
-       "the same throughout a run; the rear markers (m1, m2) fall behind most, backward slips "
-       "show while the robot hops; stroke amplitudes and timing still match.",
-       "Run the same gait towards the hose supply and away from it (paper 000's qualitative "
-       "test) or with the hoses supported overhead: a tether deficit flips or vanishes with "
-       "the hoses' direction, slope flips with the track's direction, friction and actuator "
-       "effects do neither. A force gauge on the hoses of the resting robot measures F.",
+       "the same throughout a run; the rear of the robot falls behind most, backward slips "
+       "show while it hops or slides; stroke amplitudes and timing still match.",
+       "Run the same gait towards the tether's anchor and away from it, or with the tether "
+       "supported overhead (paper 000's qualitative test): a tether's deficit flips or "
+       "vanishes with its direction, a slope flips with the track's direction, friction and "
+       "actuator effects do neither. A force gauge on the tether of the resting robot "
+       "measures F.",
        "tether_body"},
       {"tether.growing",
-       "Hose tether, growing with travel",
-       "Hoses drawn out as the robot moves away from the supply: a backward pull on lump 1 "
-       "growing with its forward travel from the start, F = k max(0, x - x0). On the tests' "
-       "forward gait (12 cycles) k = 10 N/m leaves about 35% of the travel.",
+       "Tether, growing with travel",
+       "A tether drawn out as the robot moves away from its anchor (hoses, a cable): a "
+       "backward pull on the first body growing with its forward travel from the start, "
+       "F = k max(0, x - x0). On the caterpillar's forward gait (12 cycles) k = 10 N/m leaves "
+       "about 35% of the travel.",
        {{"effect.tether_stiffness_n_per_m", 0, 50, 0, "N/m"}},
        "Distance per cycle that decays along a run: the first cycles close to the "
        "simulation, later ones shorter; a longer run has a lower mean speed. (A constant "
        "tether gives the same deficit in every cycle.)",
        "Compare the first and last cycles of a long run, or start the same gait at "
-       "different distances from the hose supply: a growing tether slows the robot with the "
-       "distance travelled, a constant one does not.",
+       "different distances from the tether's anchor: a growing tether slows the robot with "
+       "the distance travelled, a constant one does not.",
        "tether_body"},
       {"ground.slope",
        "Ground slope",
@@ -48,7 +51,7 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "largest for gaits with much airborne time or sliding; with finite friction the "
        "resting robot creeps downhill.",
        "Run the gait both ways along the same track: a slope changes sign with the heading "
-       "(a tether follows the hoses instead); or measure the track with an inclinometer.",
+       "(a tether follows its anchor instead); or measure the track with an inclinometer.",
        "ground"},
       {"friction.viscous",
        "Viscous drag",

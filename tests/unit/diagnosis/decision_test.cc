@@ -34,6 +34,23 @@ TEST(PairedT, SignAndDegenerateCases) {
   EXPECT_NEAR(PairedT({1.0, 2.0, 3.0, 4.0}, {0.9, 1.9, 2.9, 3.85}), 9.0, 1e-9);
 }
 
+// A joint structure claims no missing physics: it must fit the training data better by the
+// margin and must not predict the held-out recordings worse beyond the numeric spread; it
+// need not cut the held-out error.
+TEST(StructureAdmits, ABetterTrainingFitThatHoldsOutNoWorseThanTheSpread) {
+  DecisionRule rule;
+  rule.held_floor = 0.1;
+  const FitScore base = Base();  // held 1.9167
+  EXPECT_TRUE(StructureAdmits(base, Fit({"contact.softness"}, -50, {2.0, 2.0, 2.0, 2.0, 2.0, 2.0}), rule));
+  EXPECT_FALSE(StructureAdmits(base, Fit({"contact.softness"}, -50, {2.1, 2.1, 2.1, 2.1, 2.1, 2.1}), rule));
+  EXPECT_FALSE(StructureAdmits(base, Fit({"contact.softness"}, -5, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0}), rule));
+  FitScore failed = Fit({"contact.softness"}, -50, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
+  failed.ok = false;
+  EXPECT_FALSE(StructureAdmits(base, failed, rule));
+  // The discovery rule asks more of the same fit: a held-out gain.
+  EXPECT_FALSE(BeatsBaseline(base, Fit({"contact.softness"}, -50, {2.0, 2.0, 2.0, 2.0, 2.0, 2.0}), rule));
+}
+
 TEST(Decide, NamesAClearEffect) {
   const std::vector<FitScore> fits = {Fit({"tether.constant"}, -4400, {0.5, 0.7, 0.7, 0.6, 0.6, 0.5}),
                                       Fit({"tether.growing"}, -2000, {1.9, 2.7, 1.7, 1.7, 1.6, 1.6})};

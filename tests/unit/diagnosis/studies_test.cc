@@ -281,11 +281,28 @@ TEST(DiagnosisSpec, AStructureMovedIntoTheBaseIsFittedEverywhereAndNoLongerACand
   EXPECT_FALSE(effects::IsStructural("tether.constant"));
 }
 
-TEST(DiagnosisSpec, StructureIsOffByDefaultAndOneOfOffOrFirst) {
+// structure: joint moves every structural effect of one fit into the base at once.
+TEST(DiagnosisSpec, AJointStructureMovesEveryOneOfItsEffectsIntoTheBase) {
+  v1::DiagnosisSpec d = Spec();
+  const Candidate joint = Make(d, {"contact.softness", "damping.scale", "mass.offset"});
+  const v1::DiagnosisSpec moved = WithStructure(d, joint);
+  ASSERT_EQ(moved.base_parameters_size(), 3);
+  EXPECT_EQ(moved.base_parameters(0).name(), "ground.contact_cfm");
+  EXPECT_EQ(moved.base_parameters(1).name(), "scale.link_damping");
+  EXPECT_EQ(moved.base_parameters(2).name(), "scale.mass");
+  EXPECT_EQ(moved.candidates_size(), d.candidates_size() - 3);
+  for (const char* id : {"contact.softness", "damping.scale", "mass.offset"})
+    EXPECT_FALSE(std::count(moved.candidates().begin(), moved.candidates().end(), id)) << id;
+  EXPECT_TRUE(Validate(moved).ok()) << Validate(moved);
+}
+
+TEST(DiagnosisSpec, StructureIsOffByDefaultAndOneOfOffFirstOrJoint) {
   v1::DiagnosisSpec d = Spec();
   EXPECT_EQ(d.structure(), "off");
+  d.set_structure("joint");
+  EXPECT_TRUE(Validate(d).ok()) << Validate(d);
   d.set_structure("later");
-  EXPECT_NE(Validate(d).message().find("field 'structure': 'later' is not one of off, first"),
+  EXPECT_NE(Validate(d).message().find("field 'structure': 'later' is not one of off, first, joint"),
             std::string::npos)
       << Validate(d);
 }
