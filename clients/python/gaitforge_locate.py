@@ -16,7 +16,9 @@ Input: the JSON of
               dropped rows skipped), / sqrt 2, the median over the x and z channels. The
               plain sd of the differences is `noise_sd_diff_m` (larger: it also holds the
               model's fast mismatches, e.g. hop timing).
-  slices      per recording (T = gene 13, the gait period; cycles = span / T):
+  slices      per recording (T = the gait period the comparison used, period_s_0; cycles =
+              span / T; a recording without a gait, a playback, has period 0: it is compared
+              from its start and T is a quarter of its span, four windows in place of cycles):
     axis      RMS of the residual per axis over the 6 markers, and its excess over the noise
               sqrt(max(0, rms^2 - noise^2)); y is checked to be 0 in both.
     trend     each channel's least-squares slope over time, m/s and m per cycle; the mean
@@ -88,6 +90,7 @@ def marker_names(columns):
             names.append(base)
     return names
 SETTLE_CYCLES = 2
+PLAYBACK_WINDOWS = 4  # the "cycles" of a recording without a gait (a playback)
 PHASE_BINS = 10
 CONTACT_BAND_M = 1.5e-3
 SIGNIFICANT = 3.0  # findings need an effect larger than this many noise_m
@@ -196,24 +199,29 @@ class Recording:
         self.name = own_name(self.file)
         sim_path = resolve(entry["sim"], base)
         with open(self.file + ".json") as f:
-            self.genes = json.load(f)["command"]["genes"]
+            self.genes = json.load(f)["command"].get("genes")  # none for a playback
         # The gait period the objective compared over (any robot's controller).
         metrics = entry.get("metrics", {})
         if "period_s_0" not in metrics:
-            raise SystemExit(f"gaitforge_locate: the evaluation of {self.file} has no metric "
-                             "period_s_0 (the gait period its comparison used); evaluate it "
-                             "again with gaitforge-sim calibration-eval")
+            raise ValueError(f"the evaluation of {self.file} has no metric period_s_0 (the gait "
+                             "period its comparison used); evaluate it again with gaitforge-sim "
+                             "calibration-eval")
         self.period = float(metrics["period_s_0"])
+        # A recording without a gait cycle (a playback of recorded inputs: period 0) is
+        # compared whole, and sliced into PLAYBACK_WINDOWS equal windows in place of cycles.
+        self.playback = not self.period > 0
+        settle = 0.0 if self.playback else SETTLE_CYCLES * self.period
         self.shift = float(entry.get("time_offset_s", 0.0)) + \
             float(entry.get("metrics", {}).get("time_shift_s_0", 0.0))
         rec, sim = read_csv(self.file), read_csv(sim_path)
         t = rec["t"]
         ts = t + self.shift
-        keep = ((ts >= SETTLE_CYCLES * self.period - 1e-9) & (ts >= sim["t"][0])
-                & (ts <= sim["t"][-1]))
+        keep = (ts >= settle - 1e-9) & (ts >= sim["t"][0]) & (ts <= sim["t"][-1])
         if keep.sum() < 10:
-            raise ValueError(f"{self.name}: fewer than 10 samples overlap the simulation after "
-                             f"{SETTLE_CYCLES} settle cycles")
+            raise ValueError(f"{self.name}: fewer than 10 samples overlap the simulation"
+                             + ("" if self.playback else f" after {SETTLE_CYCLES} settle cycles"))
+        if self.playback:
+            self.period = float(ts[keep][-1] - ts[keep][0]) / PLAYBACK_WINDOWS
         self.t, self.ts = t[keep], ts[keep]
         steps = np.diff(t)
         self.dt = float(np.median(steps))
@@ -253,7 +261,7 @@ class Recording:
     def slices(self, noise):
         T, ts = self.period, self.ts
         out = {"file": self.file, "period_s": T, "time_shift_s": self.shift,
-               "samples": int(len(ts)), "cycles": self.cycles}
+               "samples": int(len(ts)), "cycles": self.cycles, "playback": self.playback}
         # axis
         axis = {}
         for name, chans in (("x", self.xs), ("z", self.zs)):
@@ -280,8 +288,8 @@ class Recording:
             tr["x"]["first_half_m_per_cycle"] = slope(ts[half], cx[half]) * T
             tr["x"]["second_half_m_per_cycle"] = slope(ts[~half], cx[~half]) * T
         out["trend"] = tr
-        # travel
-        if self.xs:
+        # travel (a gait's; a playback travels nowhere)
+        if self.xs and not self.playback:
             rc = np.mean([self.rec[c] for c in self.xs], axis=0)
             sc = np.mean([self.sim[c] for c in self.xs], axis=0)
             cres = np.mean([self.res[c] for c in self.xs], axis=0)
@@ -338,11 +346,12 @@ class Recording:
             **{s: {"share": float(np.mean(c["share"])),
                    "x_rms_m": rms(np.concatenate(c["x"])), "z_rms_m": rms(np.concatenate(c["z"])),
                    "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
-               for s, c in contact.items()}} if contact["ground"]["share"] else None
+               for s, c in contact.items()}} if contact["ground"]["share"] and not self.playback \
+            else None
         out["velocity"] = {
             **{s: {"share": float(np.mean(c["share"])), "x_rms_m": rms(np.concatenate(c["x"])),
                    "x_drift_m_per_cycle": float(np.mean(c["drift"])) / self.cycles}
-               for s, c in vel.items()}} if self.xs else None
+               for s, c in vel.items()}} if self.xs and not self.playback else None
         return out
 
 
@@ -508,7 +517,7 @@ def findings_for(s, noise):
 
 def summary_of(slices, scores, noise, withins=()):
     """The summary sentence, and what the recordings could not show."""
-    no_x = [own_name(s["file"]) for s in slices if "travel" not in s]
+    no_x = [own_name(s["file"]) for s in slices if "travel" not in s and not s["playback"]]
     unseen = (f" The forward travel is not compared in {', '.join(no_x)}: no x channel."
               if no_x else "")
     return summary_core(slices, scores, noise, withins) + unseen
@@ -627,10 +636,16 @@ def main():
     findings, scores, withins = [], [], []
     for s in slices:
         f, sc, w = findings_for(s, noise)
+        if s["playback"]:  # windows of a recording without a gait, not cycles
+            f = [t.replace(" per cycle", " per window").replace(" cycles", " windows")
+                 .replace("; no x channels)", ")") for t in f]
+            w = {k: t.replace(" per cycle", " per window") for k, t in w.items()}
         findings += f
         scores.append(sc)
         withins.append(w)
     summary = summary_of(slices, scores, noise, withins)
+    if all(s["playback"] for s in slices):
+        summary = summary.replace(" per cycle", " per window").replace(" of the stroke", "")
     findings += [text for w in withins for text in w.values()]
     if not any(scores):
         floor = "noise and the model's numeric spread" if variants else "noise"

@@ -180,6 +180,37 @@ class LocateWhatARecordingHolds(unittest.TestCase):
         self.assertEqual(sorted(s["axis"]["x"]["per_marker_rms_m"]), ["m1", "m6"])
 
 
+class LocateAPlayback(unittest.TestCase):
+    """A recording without a gait (paper 004's arm driven by recorded rod forces): no cycle,
+    so it is compared from its start and sliced into windows; it neither travels nor
+    touches the ground."""
+
+    def test_an_arms_playback_is_located_in_windows(self):
+        with tempfile.TemporaryDirectory(prefix="gf-locate-arm-") as tmp:
+            case = os.path.join(HERE, "robots", "continuum_arm", "cases", "null-1", "train")
+            d = os.path.join(tmp, "sims")
+            r = subprocess.run([os.path.join(BIN, "gaitforge-sim"), "calibration-eval",
+                                "--recordings", ",".join(os.path.join(case, f) for f in
+                                                         ("step-a.csv", "swing.csv")),
+                                "--options", "error=pointwise;channels=tip.x,tip.y,tip.z",
+                                "--out-dir", d], capture_output=True, text=True, check=True)
+            with open(os.path.join(d, "eval.json"), "w") as f:
+                f.write(r.stdout)
+            r, got = locate([os.path.join(d, "eval.json")], os.path.join(tmp, "arm.json"), False)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for s in got["slices"]["recordings"]:
+                self.assertTrue(s["playback"])
+                self.assertAlmostEqual(s["cycles"], 4.0, places=6)
+                self.assertNotIn("travel", s)
+                self.assertIsNone(s["contact"])
+                self.assertIsNone(s["velocity"])
+                self.assertIsNotNone(s["axis"]["x"]["rms_m"])
+            self.assertFalse(any("per cycle" in f or "no x channel" in f for f in got["findings"]),
+                             got["findings"])
+            self.assertNotIn("per cycle", got["summary"])
+            self.assertNotIn("no x channel", got["summary"])
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin-dir", default=BIN)
