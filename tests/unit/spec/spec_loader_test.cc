@@ -201,7 +201,8 @@ TEST(SpecLoader, ExamplesInTheRepositoryAreValid) {
   for (const char* f :
        {"examples/analytic-ga.yaml", "examples/caterpillar-ga.yaml", "examples/analytic-cmaes.yaml",
         "examples/analytic-sweep.yaml", "examples/robot-ga.yaml",
-        "examples/caterpillar-robust.yaml", "examples/go2-experiment.yaml"}) {
+        "examples/caterpillar-robust.yaml", "examples/go2-experiment.yaml",
+        "examples/caterpillar-structure.yaml", "examples/caterpillar-from-calibration.yaml"}) {
     auto loaded = LoadSpecFile(std::string(GAITFORGE_SOURCE_DIR) + "/" + f);
     ASSERT_TRUE(loaded.ok()) << loaded.status();
     ApplyDefaults(&loaded->spec);
