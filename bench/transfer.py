@@ -53,6 +53,7 @@ import mujoco_caterpillar  # noqa: E402
 import rig2d  # noqa: E402
 
 ROBUST_MEMBERS = 6  # numerics: [standard] on the caterpillar
+ROBUST_K = 0.5  # the robust studies' statistic, mean - k sd (--robust-k)
 BUILDS = {"rig2d": rig2d, "mujoco": mujoco_caterpillar}
 STRONG_HOSE = "hose 0.4 N"
 SCENARIOS = {"nothing concealed": {}, "hose 0.05 N + 0.5 N/m": {"hose_n": 0.05, "hose_n_per_m": 0.5},
@@ -79,7 +80,8 @@ STRUCTURE = [("ground.friction_coefficient", 0.3, 5.0), ("ground.contact_cfm", 1
 CALIBRATION_GAITS = 3
 
 
-def spec(name, population, generations, robust, diagnosis="", structural=False, calibration=""):
+def spec(name, population, generations, robust, diagnosis="", structural=False, calibration="",
+         k=ROBUST_K):
     text = (f"name: {name}\nseed: 1\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
@@ -91,7 +93,7 @@ def spec(name, population, generations, robust, diagnosis="", structural=False, 
         return text + "  params: {cycles: 1, settle_cycles: 2}\n"
     return text + ("  params: {cycles: 2, settle_cycles: 1}\n"
                    "  robust:\n    numerics: [standard]\n"
-                   "    statistic: mean_minus_sd\n    k: 0.5\n") + (STRUCTURAL if structural else "")
+                   f"    statistic: mean_minus_sd\n    k: {k}\n") + (STRUCTURAL if structural else "")
 
 
 def evolve(args, name, generations, robust, db=None, diagnosis="", structural=False, calibration=""):
@@ -101,7 +103,8 @@ def evolve(args, name, generations, robust, db=None, diagnosis="", structural=Fa
             os.remove(db)
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
-        f.write(spec(name, args.population, generations, robust, diagnosis, structural, calibration))
+        f.write(spec(name, args.population, generations, robust, diagnosis, structural, calibration,
+                     args.robust_k))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -336,6 +339,8 @@ def main():
                     "(paper, robust, paper-long, robust-structural)")
     ap.add_argument("--screening", type=int, default=120, help="--diagnose: screening budget")
     ap.add_argument("--full", type=int, default=480, help="--diagnose: refit budget")
+    ap.add_argument("--robust-k", type=float, default=ROBUST_K,
+                    help="k of the robust studies' statistic, mean - k sd")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     if args.quick:
