@@ -20,8 +20,8 @@ using SpreadFn = std::function<std::vector<double>(const std::string& id, int g)
 
 // Fills spec->objective from calibration study `id` (its stored spec, the best genes of its
 // hall of fame and their spread): the gait objective of the calibrated robot
-// (caterpillar.calibration -> caterpillar.distance, robot.calibration -> robot.distance with
-// its robot; a spec naming another is an error), option set = the calibration's own set, the
+// (a built-in robot's own calibration objective -> its descriptor's distance objective,
+// robot.calibration -> robot.distance with its robot; a spec naming another is an error), option set = the calibration's own set, the
 // fitted values (not the nuisances), then the spec's own items (which win); the
 // calibration's timestep_ms unless the spec sets one; with robust, one parameter per fitted
 // value over value +- 2 sd inside the calibration's bounds, unless the spec lists it.

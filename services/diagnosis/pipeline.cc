@@ -194,22 +194,29 @@ void StartFrom(const RunState& s, const Candidate& from, Candidate& c, bool hold
   c.sigma0 = hold ? 0.1 : 0.05;
 }
 
+// A short fit of each effect in `ids` alone on the base model (screening_evaluations, from
+// the baseline's fit when structure is on), all at once; appended to `out` (stage: the
+// progress label).
+absl::Status ScreenEach(RunState& s, const std::vector<std::string>& ids,
+                        const std::string& stage, std::vector<Candidate>* out) {
+  const size_t first = out->size();
+  for (const auto& id : ids) out->push_back(Make(s.d, {id}));
+  std::vector<Candidate*> ptrs;
+  for (size_t i = first; i < out->size(); ++i) {
+    StartFrom(s, s.base, (*out)[i], true);
+    ptrs.push_back(&(*out)[i]);
+  }
+  return RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r, stage,
+                 &s.reused);
+}
+
 // The structural candidates screened one by one, the lead refitted fully (structure:
 // first); every one of them together in one full fit (structure: joint). Not ok: none.
 absl::StatusOr<Candidate> FitStructure(RunState& s, const std::vector<std::string>& ids) {
   std::vector<std::string> lead_ids = ids;
   if (s.d.structure() == "first") {
     std::vector<Candidate> tried;
-    for (const auto& id : ids) tried.push_back(Make(s.d, {id}));
-    std::vector<Candidate*> ptrs;
-    for (auto& c : tried) {
-      StartFrom(s, s.base, c, true);
-      ptrs.push_back(&c);
-    }
-    if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
-                          "structure", &s.reused);
-        !st.ok())
-      return st;
+    if (auto st = ScreenEach(s, ids, "structure", &tried); !st.ok()) return st;
     const Candidate* lead = nullptr;
     for (const auto& c : tried)
       if (c.ok && (!lead || c.train < lead->train)) lead = &c;
@@ -266,16 +273,8 @@ absl::Status Structure(RunState& s) {
 
 // 3. Screening: every candidate effect, a short fit each, all at once.
 absl::Status Screen(RunState& s) {
-  for (const auto& id : s.d.candidates()) s.screened.push_back(Make(s.d, {id}));
-  std::vector<Candidate*> ptrs;
-  for (auto& c : s.screened) {
-    StartFrom(s, s.base, c, true);
-    ptrs.push_back(&c);
-  }
-  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.screening_evaluations(), s.fit_inputs, s.r,
-                        "screening", &s.reused);
-      !st.ok())
-    return st;
+  const std::vector<std::string> ids(s.d.candidates().begin(), s.d.candidates().end());
+  if (auto st = ScreenEach(s, ids, "screening", &s.screened); !st.ok()) return st;
   std::sort(s.screened.begin(), s.screened.end(), [](const Candidate& a, const Candidate& b) {
     if (a.ok != b.ok) return a.ok;
     return a.train < b.train;

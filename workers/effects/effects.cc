@@ -13,11 +13,9 @@ const std::vector<EffectInfo>& EffectCatalog() {
       {"tether.constant",
        "Tether, constant pull",
        "Something trailing behind the robot (supply hoses, a cable, a tether) pulls its first "
-       "body, by convention its rear (the caterpillar's lump 1), backwards (-x) with a constant "
-       "force F at its centre. Paper 000 blames its pneumatic hoses for the hardware covering "
-       "35% of the simulated distance (11% to 74%); on the caterpillar's evolved forward gait "
-       "(about 3 cm per cycle) F = 1.05 to 1.1 N leaves about 35% of the travel, and from "
-       "about 1.5 N it goes backwards.",
+       "body, by convention its rear, backwards (-x) with a constant force F at its centre. "
+       "Paper 000 blames its pneumatic hoses for the hardware covering 35% of the simulated "
+       "distance (11% to 74%).",
        {{"effect.tether_force_n", 0, 2.5, 0, "N"}},
        "Real travel per cycle shorter than simulated for every gait by a deficit that stays "
        "the same throughout a run; the rear of the robot falls behind most, backward slips "
@@ -32,8 +30,7 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "Tether, growing with travel",
        "A tether drawn out as the robot moves away from its anchor (hoses, a cable): a "
        "backward pull on the first body growing with its forward travel from the start, "
-       "F = k max(0, x - x0). On the caterpillar's forward gait (12 cycles) k = 10 N/m leaves "
-       "about 35% of the travel.",
+       "F = k max(0, x - x0).",
        {{"effect.tether_stiffness_n_per_m", 0, 50, 0, "N/m"}},
        "Distance per cycle that decays along a run: the first cycles close to the "
        "simulation, later ones shorter; a longer run has a lower mean speed. (A constant "
