@@ -15,10 +15,12 @@ namespace {
 
 const std::string kField = "objective.from_calibration";
 
-// The gait objective of the robot a calibration objective fits; empty when it has none.
+// The gait objective of the robot a calibration objective fits: a built-in robot's own
+// distance objective, else robot.distance (with that robot).
 std::string GaitObjectiveOf(const core::ObjectiveInfo& calibration) {
   if (calibration.calibrates.empty()) return "robot.distance";
-  return robots::Robot(calibration.calibrates).distance_objective;
+  const std::string& own = robots::Robot(calibration.calibrates).distance_objective;
+  return own.empty() ? "robot.distance" : own;
 }
 
 bool IsNuisance(const core::ObjectiveInfo& info, const std::string& gene) {
@@ -41,13 +43,13 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
                      calibration.bounds_size(), " bounds"));
   const std::string name = GaitObjectiveOf(*info);
   auto* o = spec->mutable_objective();
-  if (name.empty() || (!o->name().empty() && o->name() != name))
+  if (!o->name().empty() && o->name() != name)
     return absl::InvalidArgumentError(absl::StrCat(
         kField, ": study ", id, " calibrates a model whose gait objective is '", name,
         "', not '", o->name(), "'"));
   o->set_name(name);
   if (name == "robot.distance" && o->robot().empty() && o->robot_descriptor().empty()) {
-    o->set_robot(fit.robot());
+    o->set_robot(info->calibrates.empty() ? fit.robot() : info->calibrates);
     o->set_robot_descriptor(fit.robot_descriptor());
   }
   std::vector<std::string> set;
