@@ -72,6 +72,16 @@ struct Suspect {
   Mark mark;
 };
 
+// Physics the robot's build rules out (`ruled_out:`; docs/robots.md): a catalog effect the
+// gap finder then neither tries by default nor accepts as a candidate, with the reason (a
+// battery on board rules out a tether). Its id is checked against the catalog when a
+// diagnosis is validated (services/diagnosis/spec.cc).
+struct RuledOut {
+  std::string id;   // "tether.constant"
+  std::string why;  // "battery on board (fact sheet: 45 g with the battery)"
+  Mark mark;
+};
+
 // A linear relation between parameters that must hold: sum(lhs) OP sum(rhs), each side a
 // signed sum of parameter names, OP one of < <= > >=.
 struct Relation {
@@ -285,6 +295,7 @@ struct RobotDescriptor {
   std::vector<Parameter> parameters;
   std::vector<Scale> scales;
   std::vector<Suspect> suspects;
+  std::vector<RuledOut> ruled_out;
   std::vector<Relation> relations;
   Controller controller;
   std::vector<Sensor> sensors;

@@ -332,7 +332,7 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
                                 "figures",  "objectives", "parameters", "counts",  "scales",
                                 "suspects", "relations",  "controller", "sensors", "bodies",
                                 "joints",   "actuators",  "ground",     "plane",   "self_contact",
-                                "tracking", "electrical"});
+                                "tracking", "electrical", "ruled_out"});
       !s.ok())
     return s;
   RobotDescriptor d;
@@ -347,6 +347,8 @@ absl::StatusOr<RobotDescriptor> FromYaml(const YAML::Node& root, const std::stri
     if (Status s = ParseScales(f, root["scales"], d); !s.ok()) return s;
   if (root["suspects"])
     if (Status s = ParseSuspects(f, root["suspects"], d); !s.ok()) return s;
+  if (root["ruled_out"])
+    if (Status s = ParseRuledOut(f, root["ruled_out"], d); !s.ok()) return s;
   if (root["relations"])
     if (Status s = ParseRelations(f, root["relations"], d); !s.ok()) return s;
   if (!root["controller"])

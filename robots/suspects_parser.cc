@@ -84,4 +84,20 @@ Status ParseSuspects(const YamlFields& f, const YAML::Node& node, RobotDescripto
   return absl::OkStatus();
 }
 
+Status ParseRuledOut(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d) {
+  const std::string what = "expected a mapping EFFECT_ID: WHY (the reason the build rules it out)";
+  if (!node.IsMap()) return f.Error(node, "ruled_out", what);
+  if (Status s = f.CheckNoDuplicates(node, "ruled_out"); !s.ok()) return s;
+  for (const auto& kv : node) {
+    RuledOut r{kv.first.Scalar(), "", f.MarkOf(kv.first)};
+    const std::string path = JoinPath("ruled_out", r.id);
+    auto why = f.String(kv.second, path);
+    if (!why.ok()) return why.status();
+    if (why->empty()) return f.Error(kv.second, path, "needs the reason (" + what + ")");
+    r.why = *why;
+    d.ruled_out.push_back(std::move(r));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace gaitforge::robots

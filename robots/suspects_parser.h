@@ -12,4 +12,9 @@ namespace gaitforge::robots {
 // fitted name must be calibratable, its range inside the parameter's and holding its value.
 absl::Status ParseSuspects(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d);
 
+// Appends the `ruled_out` mapping (EFFECT_ID: WHY, a non-empty reason each) to d.ruled_out.
+// The ids are checked against the effect catalog where it is known (a diagnosis's
+// validation), not here: robots/ does not depend on the catalog.
+absl::Status ParseRuledOut(const YamlFields& f, const YAML::Node& node, RobotDescriptor& d);
+
 }  // namespace gaitforge::robots

@@ -111,6 +111,11 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
       return absl::InvalidArgumentError(absl::StrCat(
           suspect.mark.ToString(), ": suspects.", suspect.id, ": '", suspect.id,
           "' is an effect of the catalog (docs/effects.md); give the robot's suspect its own id"));
+  for (const auto& r : (*robot)->ruled_out)
+    if (!effects::FindEffect(r.id))
+      return absl::InvalidArgumentError(absl::StrCat(
+          r.mark.ToString(), ": ruled_out.", r.id, ": '", r.id,
+          "' is not an effect of the catalog (docs/effects.md lists them)"));
   for (int i = 0; i < d.candidates_size(); ++i) {
     const auto e = effects::FindEffect(d.candidates(i), **robot);
     if (!e || e->params.empty())

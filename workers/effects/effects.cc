@@ -341,6 +341,8 @@ bool HasPart(const robots::RobotDescriptor& d, std::string_view part) {
 
 std::string WhyNotApplicable(const EffectInfo& e, const robots::RobotDescriptor& d) {
   if (e.params.empty()) return "it has no parameter to fit";
+  for (const robots::RuledOut& r : d.ruled_out)
+    if (r.id == e.id) return d.name + "'s descriptor rules it out (" + r.mark.ToString() + "): " + r.why;
   const std::vector<std::string> own = d.CalibratableNames();
   for (const auto& p : e.params) {
     if (std::find(own.begin(), own.end(), p.name) != own.end()) continue;

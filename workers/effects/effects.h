@@ -82,7 +82,8 @@ bool HasPart(const robots::RobotDescriptor& d, std::string_view part);
 bool IsStructural(std::string_view id);
 
 // "" when every parameter of `e` is one robot d's model takes: a calibratable name of its
-// descriptor, or a builder effect's parameter on a part d has; otherwise why not, in words.
+// descriptor, or a builder effect's parameter on a part d has; otherwise why not, in words
+// (also when d's descriptor rules the effect out: its `ruled_out`, with the reason).
 std::string WhyNotApplicable(const EffectInfo& e, const robots::RobotDescriptor& d);
 
 // What a calibration of robot d may fit: its calibratable names (parameters, then scales),

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include "absl/strings/str_join.h"
@@ -250,6 +252,37 @@ TEST(DiagnosisSpec, ACandidateThatFitsABaseParameterIsLeftOutOrRefused) {
   const absl::Status s = Validate(d);
   EXPECT_NE(s.message().find("'friction.anisotropic' fits effect.friction_forward, which "
                              "base_parameters[0] fits"),
+            std::string::npos)
+      << s;
+}
+
+// A robot whose build rules an effect out (`ruled_out`): the default candidates leave it
+// out, a spec that lists it is refused with the descriptor's reason, and an id that is no
+// catalog effect is refused naming its line.
+TEST(DiagnosisSpec, AnEffectTheRobotRulesOutIsNeitherTriedNorAccepted) {
+  v1::DiagnosisSpec d = Spec();
+  d.set_robot("walker");
+  d.clear_candidates();
+  Defaults(&d);
+  ASSERT_GT(d.candidates_size(), 3);
+  for (const auto& c : d.candidates()) EXPECT_EQ(c.rfind("tether.", 0), std::string::npos) << c;
+  EXPECT_TRUE(std::count(d.candidates().begin(), d.candidates().end(), "ground.slope"));
+  ASSERT_TRUE(Validate(d).ok()) << Validate(d);
+  d.add_candidates("tether.constant");
+  absl::Status s = Validate(d);
+  EXPECT_NE(s.message().find("'tether.constant' cannot be fitted on walker: walker's descriptor "
+                             "rules it out (robots/walker/robot.yaml:"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.message().find("battery"), std::string::npos) << s;
+  std::ifstream in(std::string(GAITFORGE_SOURCE_DIR) + "/robots/walker/robot.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("  tether.growing:"), 17, "  tether.gruwing:");
+  d.set_robot_descriptor(text);
+  d.clear_candidates();
+  d.add_candidates("ground.slope");
+  s = Validate(d);
+  EXPECT_NE(s.message().find(": ruled_out.tether.gruwing: 'tether.gruwing' is not an effect of the catalog"),
             std::string::npos)
       << s;
 }

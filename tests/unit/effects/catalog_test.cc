@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "robots/registry.h"
 #include "workers/effects/effects.h"
@@ -63,6 +64,24 @@ TEST(EffectCatalog, DirectionalFrictionStartsAtTheRobotsOwnCoefficient) {
   for (const auto& p : w->params) EXPECT_DOUBLE_EQ(p.nominal, walker->Value("ground.friction_coefficient"));
   for (const auto& p : c->params) EXPECT_DOUBLE_EQ(p.nominal, 0.0);
   EXPECT_DOUBLE_EQ(FindEffect("ground.slope", *walker)->params[0].nominal, 0.0);
+}
+
+// A robot's `ruled_out` entries name catalog effects, and those are not applicable to it,
+// with the descriptor's reason; the walker carries its battery, so nothing tethers it.
+TEST(EffectCatalog, RuledOutEffectsAreCatalogIdsAndNotApplicable) {
+  for (const std::string& name : robots::RobotNames()) {
+    const robots::RobotDescriptor& d = robots::Robot(name);
+    for (const robots::RuledOut& r : d.ruled_out) {
+      const EffectInfo* e = FindEffect(r.id);
+      ASSERT_NE(e, nullptr) << name << ": " << r.id;
+      EXPECT_THAT(WhyNotApplicable(*e, d), ::testing::HasSubstr(r.why)) << name;
+    }
+  }
+  const robots::RobotDescriptor& walker = robots::Robot("walker");
+  EXPECT_THAT(WhyNotApplicable(*FindEffect("tether.constant"), walker),
+              ::testing::AllOf(::testing::HasSubstr("rules it out"), ::testing::HasSubstr("battery")));
+  EXPECT_EQ(WhyNotApplicable(*FindEffect("ground.slope"), walker), "");
+  EXPECT_EQ(WhyNotApplicable(*FindEffect("tether.constant"), robots::Robot("caterpillar")), "");
 }
 
 }  // namespace

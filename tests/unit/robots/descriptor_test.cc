@@ -175,6 +175,23 @@ relations:)";
               HasSubstr("NAME: [lo, hi]"));
 }
 
+// Physics the build rules out: each id with a non-empty reason and where it was written.
+TEST(Descriptor, RuledOutEffectsKeepTheirReasonAndLine) {
+  const std::string ruled = "ruled_out:\n  tether.constant: battery on board\nrelations:";
+  auto d = ParseDescriptor(Edit("relations:", ruled), "twobox.yaml");
+  ASSERT_TRUE(d.ok()) << d.status();
+  ASSERT_EQ(d->ruled_out.size(), 1u);
+  EXPECT_EQ(d->ruled_out[0].id, "tether.constant");
+  EXPECT_EQ(d->ruled_out[0].why, "battery on board");
+  EXPECT_EQ(d->ruled_out[0].mark.ToString(), "twobox.yaml:13:3");
+  EXPECT_THAT(ErrorOf(Edit("relations:", "ruled_out:\n  tether.constant: ''\nrelations:")),
+              AllOf(HasSubstr("twobox.yaml:13:"), HasSubstr("ruled_out.tether.constant: needs the reason")));
+  EXPECT_THAT(ErrorOf(Edit("relations:", "ruled_out: [tether.constant]\nrelations:")),
+              HasSubstr("ruled_out: expected a mapping EFFECT_ID: WHY"));
+  EXPECT_THAT(ErrorOf(Edit("relations:", "ruled_out:\n  a: x\n  a: y\nrelations:")),
+              HasSubstr("ruled_out"));
+}
+
 TEST(Descriptor, ARelationThatFailsSaysWhy) {
   EXPECT_THAT(ErrorOf(Edit("{value: 0.05, range: [0.01, 1]", "{value: 0.02, range: [0.01, 1]")),
               AllOf(HasSubstr("twobox.yaml:13:"), HasSubstr("fails"), HasSubstr("a test relation")));
