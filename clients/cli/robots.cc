@@ -60,6 +60,14 @@ void PrintJson(const robots::RobotDescriptor& d) {
     std::cout << (i ? ", " : "") << "{\"name\": " << JsonQuote(g.name) << ", \"lo\": " << Num(g.lo)
               << ", \"hi\": " << Num(g.hi) << "}";
   }
+  std::cout << "],\n \"suspects\": [";
+  for (size_t i = 0; i < d.suspects.size(); ++i)
+    std::cout << (i ? ", " : "") << "{\"id\": " << JsonQuote(d.suspects[i].id)
+              << ", \"name\": " << JsonQuote(d.suspects[i].name) << "}";
+  std::cout << "],\n \"ruled_out\": [";
+  for (size_t i = 0; i < d.ruled_out.size(); ++i)
+    std::cout << (i ? ", " : "") << "{\"id\": " << JsonQuote(d.ruled_out[i].id)
+              << ", \"why\": " << JsonQuote(d.ruled_out[i].why) << "}";
   std::cout << "],\n \"controller\": " << JsonQuote(d.controller.kind)
             << ",\n \"channels\": " << QuotedList(d.Channels()) << "}\n";
 }
@@ -83,6 +91,10 @@ void PrintText(const robots::RobotDescriptor& d) {
     std::cout << s.name << "  multiplies " << absl::StrJoin(s.multiplies, ", ") << "\n";
   std::cout << "\nRELATIONS\n";
   for (const auto& r : d.relations) std::cout << r.text << "\n";
+  if (!d.suspects.empty()) std::cout << "\nSUSPECTS (the gap finder tries them beside its catalog)\n";
+  for (const auto& x : d.suspects) std::cout << x.id << "  " << x.name << "\n";
+  if (!d.ruled_out.empty()) std::cout << "\nRULED OUT (the gap finder never offers them)\n";
+  for (const auto& r : d.ruled_out) std::cout << r.id << "  " << r.why << "\n";
   std::cout << "\nGENES (" << d.controller.kind << ")\n";
   for (const auto& g : d.controller.genes)
     std::cout << g.name << "  [" << g.lo << ", " << g.hi << "]\n";

@@ -28,6 +28,13 @@ TEST(RobotsCli, ListsShowsAndChecksDescriptors) {
                               HasSubstr("\"name\": \"scale.link_stiffness\""),
                               HasSubstr("\"name\": \"T\", \"lo\": 0.2, \"hi\": 2}"),
                               HasSubstr("\"m6.z\"")));
+  // What the gap finder may and may not offer for a robot: its suspects, what it rules out.
+  auto walker = RunCommand(Bin("gaitforge") + " robots walker");
+  ASSERT_EQ(walker.exit_code, 0) << walker.err;
+  EXPECT_THAT(walker.out, AllOf(HasSubstr("RULED OUT"), HasSubstr("tether.constant  nothing trails")));
+  auto tigrillo = RunCommand(Bin("gaitforge") + " robots tigrillo --json");
+  EXPECT_THAT(tigrillo.out, AllOf(HasSubstr("\"suspects\": [{\"id\": \"knee.hind_stiffness\""),
+                                  HasSubstr("\"ruled_out\": []")));
 
   TempDir dir;
   const std::string bad = dir.path() + "/robot.yaml";
