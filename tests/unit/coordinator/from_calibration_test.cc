@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "services/coordinator/corrected_model.h"
+#include "storage/study_store.h"
+#include "tests/support/temp_dir.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -91,6 +93,36 @@ TEST(FromCalibration, RefusesWhatIsNoCalibrationOrAnotherObjective) {
   EXPECT_THAT(mismatch.message(), HasSubstr("gait objective is 'caterpillar.distance', not 'robot.distance'"));
   auto short_best = ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), {9.6}, {}, &g);
   EXPECT_EQ(short_best.code(), absl::StatusCode::kFailedPrecondition);
+}
+
+// What the coordinator refuses before it reads a fit: both starting points at once, an id
+// the database does not hold (NotFound: the CLI's exit 3), a calibration still running.
+TEST(FromCalibration, RefusesBothStartsAnUnknownIdAndARunningStudy) {
+  testing::TempDir dir;
+  auto store = storage::OpenSqliteStore(dir.File("s.db"));
+  ASSERT_TRUE(store.ok()) << store.status();
+  storage::StudyRecord running;
+  running.study_id = "cal-running";
+  running.name = "cal";
+  running.spec = Calibration("caterpillar.calibration").SerializeAsString();
+  running.state = "running";
+  ASSERT_TRUE((*store)->CreateStudy(running).get().ok());
+  const SpreadFn spread = [](const std::string&, int) { return std::vector<double>{}; };
+  auto resolve = [&](const std::string& id, const std::string& diagnosis) {
+    v1::StudySpec g = Gait(true);
+    g.mutable_objective()->set_from_calibration(id);
+    g.mutable_objective()->set_from_diagnosis(diagnosis);
+    return ResolveFromCalibration(**store, spread, &g);
+  };
+  auto both = resolve("cal-running", "diag-1");
+  EXPECT_EQ(both.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(both.message(), HasSubstr("from a calibration or from a diagnosis, not both"));
+  auto unknown = resolve("cal-nowhere", "");
+  EXPECT_EQ(unknown.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(unknown.message(), HasSubstr("objective.from_calibration: no study with id 'cal-nowhere'"));
+  auto not_done = resolve("cal-running", "");
+  EXPECT_EQ(not_done.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(not_done.message(), HasSubstr("study cal-running is running; a study starts from a completed one"));
 }
 
 TEST(CorrectedModel, PrependSetKeepsTheSpecsItemsLastAndLeavesNoEmptySet) {
