@@ -390,11 +390,14 @@ void WriteCorrected(RunState& s) {
   out << "  options:\n    set: \"" << absl::StrJoin(set, ",") << "\"\n";
 }
 
-// When the recordings left explanations undecided, the recordings that would decide them
-// (plan.h), kept as dir/plan.json: gaitforge-sim plan on the diagnosis's own model (its
-// descriptor and step as it ran) and recordings. A plan that fails is a note, not a failure.
+// When the recordings left explanations undecided, or nothing explained the held-out
+// mismatch, or the effect named is parted from the baseline by no recording given by the
+// decisive level (plan.h, WhyPlan), the recordings that would decide them, kept as
+// dir/plan.json: gaitforge-sim plan on the diagnosis's own model (its descriptor and step as
+// it ran) and recordings. A plan that fails is a note, not a failure.
 void PlanStage(RunState& s, const std::string& report) {
-  if (!plan::Undecided(report)) return;
+  const plan::PlanReason why = plan::WhyPlan(report);
+  if (why == plan::PlanReason::kNone) return;
   s.r.progress({"plan", 0, 0, 1, "planning the recordings that would decide"});
   std::vector<std::string> files = s.in.train_files;
   files.insert(files.end(), s.in.held_files.begin(), s.in.held_files.end());
@@ -402,10 +405,16 @@ void PlanStage(RunState& s, const std::string& report) {
   o.report = s.in.dir + "/diagnosis.json";
   o.threads = 2;
   std::string json;
-  if (core::RunCapture(PlanCommand(s.d, RobotArg(s.d), files, o, {}), &json) == 0)
-    std::ofstream(s.in.dir + "/plan.json") << json;
-  else
-    s.r.note("warning: no plan of the recordings that would decide (gaitforge-sim plan failed)");
+  if (core::RunCapture(PlanCommand(s.d, RobotArg(s.d), files, o, {}), &json) != 0) {
+    // A named effect stands without a plan; a failed plan only matters where one was owed.
+    if (why != plan::PlanReason::kConfirm)
+      s.r.note("warning: no plan of the recordings that would decide (gaitforge-sim plan failed)");
+    return;
+  }
+  double decisive = NAN;
+  const double given = plan::RecordedSeparation(json, plan::FirstNamed(report), &decisive);
+  if (why == plan::PlanReason::kConfirm && given >= decisive) return;  // the data decided it
+  std::ofstream(s.in.dir + "/plan.json") << json;
 }
 
 }  // namespace

@@ -132,6 +132,53 @@ bool Undecided(const std::string& report_json) {
   return false;
 }
 
+PlanReason WhyPlan(const std::string& report_json) {
+  if (Undecided(report_json)) return PlanReason::kUndecided;
+  auto r = Parse(report_json, "");
+  if (!r.ok()) return PlanReason::kNone;
+  const std::string verdict = Field(*r, "verdict").string_value();
+  if (verdict == "found") return PlanReason::kConfirm;
+  if (verdict != "none" || !Field(*r, "unexplained_mismatch").bool_value()) return PlanReason::kNone;
+  for (const Value& v : Field(*r, "runners_up").list_value().values())
+    if (Usable(v.struct_value()) && Number(v.struct_value(), "delta_bic", 0) < 0)
+      return PlanReason::kUnexplained;
+  return PlanReason::kNone;
+}
+
+std::string FirstNamed(const std::string& report_json) {
+  auto r = Parse(report_json, "");
+  if (!r.ok()) return "";
+  const auto& effects = Field(*r, "effects").list_value().values();
+  return effects.empty() ? "" : Field(effects[0].struct_value(), "id").string_value();
+}
+
+double RecordedSeparation(const std::string& plan_json, const std::string& id, double* decisive) {
+  auto p = Parse(plan_json, "");
+  if (!p.ok()) return NAN;
+  if (decisive) *decisive = Number(*p, "decisive", NAN);
+  const auto& explanations = Field(*p, "explanations").list_value().values();
+  int base = -1, named = -1;
+  for (int i = 0; i < explanations.size(); ++i) {
+    const std::string e = Field(explanations[i].struct_value(), "id").string_value();
+    if (e == "none") base = i;
+    if (e == id) named = i;
+  }
+  if (base < 0 || named < 0) return NAN;
+  const auto pairs = Pairs(explanations.size());
+  const auto at = std::find(pairs.begin(), pairs.end(),
+                            std::make_pair(std::min(base, named), std::max(base, named)));
+  const int pair = static_cast<int>(at - pairs.begin());
+  double best = NAN;
+  for (const Value& v : Field(*p, "candidates").list_value().values()) {
+    const Struct& c = v.struct_value();
+    const auto& ratio = Field(c, "ratio").list_value().values();
+    if (Field(c, "kind").string_value() != "recorded" || pair >= ratio.size()) continue;
+    const double x = ratio[pair].number_value();
+    if (std::isfinite(x) && !(x <= best)) best = x;
+  }
+  return best;
+}
+
 absl::StatusOr<ReportModel> ReportModelOf(const std::string& json, const std::string& where) {
   auto report = Parse(json, where);
   if (!report.ok()) return report.status();

@@ -114,6 +114,26 @@ std::vector<int> Choose(const std::vector<std::vector<double>>& ratio, int count
 // baseline on the training data by the BIC margin. False for what is not a report.
 bool Undecided(const std::string& report_json);
 
+// Why a diagnosis plans by itself after its report (pipeline.cc, PlanStage):
+//   kUndecided    Undecided(): the recordings could not tell explanations apart;
+//   kUnexplained  none named, the report's unexplained_mismatch set, and a fit without a
+//                 parameter at a bound fitted the training data better than the baseline
+//                 (delta BIC < 0): the recording that would tell the nearest explanations
+//                 apart, though none passed the rule;
+//   kConfirm      an effect named: a plan is kept only when no recording given separates
+//                 it from the baseline by the decisive level (RecordedSeparation), so the
+//                 name rests on differences smaller than what the model gets wrong anyway.
+enum class PlanReason { kNone, kUndecided, kUnexplained, kConfirm };
+PlanReason WhyPlan(const std::string& report_json);
+// The id of the report's first named effect ("" when none).
+std::string FirstNamed(const std::string& report_json);
+
+// In a plan's JSON, the best separation of the baseline ("none") from explanation `id` among
+// the recordings it was given as they were (candidates of kind "recorded"), in multiples of
+// the residual; NAN when the plan lacks either or is not JSON. `decisive`: the plan's level.
+double RecordedSeparation(const std::string& plan_json, const std::string& id,
+                          double* decisive = nullptr);
+
 // A plan's JSON (gaitforge-sim plan) in words: the recordings to make, what each separates,
 // and the pairs no candidate decides. An error when it is not a plan.
 absl::StatusOr<std::string> PlanWords(const std::string& json, const std::string& where);

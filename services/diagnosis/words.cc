@@ -216,15 +216,33 @@ std::string Details(const Struct& r, const std::string& dir) {
   return out;
 }
 
-// The recordings that would decide, when the data left explanations undecided: the plan the
-// diagnosis made (dir/plan.json) in words, or how to make one.
+// The recordings that would decide (plan.h, WhyPlan): the plan the diagnosis kept beside
+// its report (dir/plan.json) in words, or how to make one. A named effect that a recording
+// given already parts from the baseline has no plan, and needs no words.
 std::string PlanPart(const std::string& report_json, const std::string& dir) {
-  if (!plan::Undecided(report_json)) return "";
+  const plan::PlanReason why = plan::WhyPlan(report_json);
+  if (why == plan::PlanReason::kNone) return "";
   const auto text = core::ReadWholeFile(dir + "/plan.json");
-  if (auto words = plan::PlanWords(text.value_or(""), dir + "/plan.json"); text.ok() && words.ok())
-    return absl::StrCat("the recordings that would decide (", dir, "/plan.json):\n", *words);
-  return absl::StrCat("  the recordings that would decide: gaitforge diagnose plan SPEC --report ",
-                      dir, "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "
+  auto words = plan::PlanWords(text.value_or(""), dir + "/plan.json");
+  const bool planned = text.ok() && words.ok();
+  if (why == plan::PlanReason::kConfirm) {
+    if (!planned) return "";
+    double decisive = NAN;
+    const std::string named = plan::FirstNamed(report_json);
+    const double given = plan::RecordedSeparation(*text, named, &decisive);
+    return absl::StrFormat(
+        "to confirm %s: no recording given parts it from the model without it by more than "
+        "%.2g times what the model leaves unexplained (%g would decide); the recordings that "
+        "would (%s/plan.json):\n%s",
+        named, given, decisive, dir, *words);
+  }
+  const std::string what = why == plan::PlanReason::kUnexplained
+                               ? "nothing named explains the held-out mismatch; the recordings "
+                                 "that would tell the nearest explanations apart"
+                               : "the recordings that would decide";
+  if (planned) return absl::StrCat(what, " (", dir, "/plan.json):\n", *words);
+  return absl::StrCat("  ", what, ": gaitforge diagnose plan SPEC --report ", dir,
+                      "/diagnosis.json (docs/diagnosis.md, \"Plan the experiment that "
                       "decides\")\n");
 }
 

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace gaitforge::diagnosis::plan {
 namespace {
@@ -64,6 +66,52 @@ TEST(Plan, AReportWithNothingFittedBesideTheBaselineIsRefused) {
   EXPECT_NE(e.status().message().find("cases/null-1/diagnosis.json"), std::string::npos);
   EXPECT_NE(e.status().message().find("nothing for an experiment to separate"), std::string::npos);
   EXPECT_FALSE(ExplanationsFromReport("not json", "x.json", 3).ok());
+}
+
+// When a diagnosis plans by itself: undecided, a name to confirm, a mismatch nothing
+// explained while a fit beat the baseline on training; never for a none that fits.
+TEST(Plan, WhyADiagnosisPlansByItself) {
+  std::string r = kReport;
+  EXPECT_EQ(WhyPlan(r), PlanReason::kUndecided);
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = r;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  const std::string found = with(R"("verdict": "ambiguous")", R"("verdict": "found")");
+  EXPECT_EQ(WhyPlan(found), PlanReason::kConfirm);
+  EXPECT_EQ(FirstNamed(found), "ground.slope");
+  const char* none = R"({"verdict": "none", "unexplained_mismatch": %s, "rule": {"margin": 10},
+    "runners_up": [{"id": "joint.damping_growth", "held_out": 0.003, "at_bound": [],
+                    "delta_bic": %s}]})";
+  auto report = [&](const char* unexplained, const char* dbic) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, none, unexplained, dbic);
+    return std::string(buf);
+  };
+  EXPECT_EQ(WhyPlan(report("true", "-0.4")), PlanReason::kUnexplained);
+  EXPECT_EQ(WhyPlan(report("false", "-0.4")), PlanReason::kNone);
+  EXPECT_EQ(WhyPlan(report("true", "3")), PlanReason::kNone);
+  EXPECT_EQ(WhyPlan(report("true", "-30")), PlanReason::kUndecided);
+  EXPECT_EQ(WhyPlan("not json"), PlanReason::kNone);
+  EXPECT_EQ(FirstNamed(report("true", "-0.4")), "");
+}
+
+// How far the recordings a plan was given part the baseline from an explanation: the best
+// ratio among the candidates of kind "recorded", in that pair's column.
+TEST(Plan, TheRecordedSeparationIsTheBestRecordingsRatioOfThatPair) {
+  const char* json = R"({"decisive": 2, "explanations": [{"id": "none"}, {"id": "joint.softening"},
+      {"id": "joint.stiffening"}],
+    "candidates": [
+      {"name": "step-a.csv", "kind": "recorded", "ratio": [0.27, 0.16, 0.3]},
+      {"name": "swing.csv", "kind": "recorded", "ratio": [1.05, 1.0, 0.46]},
+      {"name": "release.csv, inputs x1.5", "kind": "scaled", "ratio": [8.45, 2.18, 8.58]}]})";
+  double decisive = 0;
+  EXPECT_DOUBLE_EQ(RecordedSeparation(json, "joint.softening", &decisive), 1.05);
+  EXPECT_EQ(decisive, 2);
+  EXPECT_DOUBLE_EQ(RecordedSeparation(json, "joint.stiffening"), 1.0);
+  EXPECT_TRUE(std::isnan(RecordedSeparation(json, "ground.slope")));
+  EXPECT_TRUE(std::isnan(RecordedSeparation("[", "joint.softening")));
 }
 
 TEST(Plan, TheReportsModelIsItsLastCountsAndItsStep) {

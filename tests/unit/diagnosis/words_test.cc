@@ -75,6 +75,27 @@ TEST(ReportWords, AnUndecidedVerdictEndsWithThePlanOfTheRecordingsThatWouldDecid
       << *planned;
 }
 
+// A found effect with a plan beside it (no recording given parted it from the baseline by
+// the decisive level) ends with the recording that would confirm it.
+TEST(ReportWords, AFoundEffectThatNoRecordingPartsEndsWithTheRecordingToConfirmIt) {
+  const std::string dir = ::testing::TempDir() + "/words-confirm";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/plan.json") << R"({"robot": "caterpillar", "residual": 0.0005,
+    "decisive": 2, "explanations": [{"id": "none"}, {"id": "tether.constant"}],
+    "candidates": [{"name": "gait-a.csv", "kind": "recorded", "ratio": [1.2]}],
+    "plan": [{"name": "gait-a.csv, three times as long", "genes": {"T": 1.2}, "cycles": 30,
+              "period_s": 1.2, "duration_s": 36, "ratio": [5.5]}],
+    "pairs": [{"pair": ["none", "tether.constant"], "best_ratio": 5.5, "decided": true}]})";
+  auto w = ReportWords(kFound, dir);
+  ASSERT_TRUE(w.ok()) << w.status();
+  EXPECT_NE(w->find("to confirm tether.constant: no recording given parts it from the model "
+                    "without it by more than 1.2 times what the model leaves unexplained (2 "
+                    "would decide)"),
+            std::string::npos)
+      << *w;
+  EXPECT_NE(w->find("1. gait-a.csv, three times as long: 30 cycles"), std::string::npos) << *w;
+}
+
 TEST(ReportWords, AFoundEffectWithItsMagnitudesInGeneOrderAndTheRunnersUp) {
   auto w = ReportWords(kFound);
   ASSERT_TRUE(w.ok()) << w.status();
