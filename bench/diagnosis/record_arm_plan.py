@@ -15,6 +15,8 @@ judged on the same prediction.
     /usr/bin/python3 bench/diagnosis/record_arm_plan.py --case damping-growth-1 \\
         --plan plan.json [--take 1] [--suite tests/diagnosis/robots/continuum_arm]
 
+--plan may also be a run_suite.py result (--json-out): the plan its diagnosis kept.
+
 Writes cases/<case>-planned/ and adds its entry to answers.sealed.json (the same concealed
 effect; `planned_from` names the case and the plan's recordings). The concealed values are
 read only to drive the reference, as the hardware would carry them; the diagnosis never
@@ -51,6 +53,19 @@ def varied_inputs(recording_csv, inputs, out_csv):
             f.write("%.6f," % t[k] + ",".join("%.9g" % v for v in values) + "\n")
 
 
+def load_plan(path, case):
+    """A plan.json, or a run_suite.py result (--json-out) holding the case's diagnosis with
+    the plan it kept."""
+    with open(path) as f:
+        data = json.load(f)
+    if "results" not in data:
+        return data
+    for r in data["results"]:
+        if r.get("case") == case and r.get("plan"):
+            return r["plan"]
+    sys.exit(f"record_arm_plan: {path} holds no plan of case {case} (its diagnosis asked for none)")
+
+
 def find_recording(case_dir, case, name):
     for rel in case["train"] + case["held_out"]:
         if os.path.basename(rel) == name or os.path.splitext(os.path.basename(rel))[0] == name:
@@ -63,15 +78,15 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--suite", default=os.path.join(ROOT, "tests", "diagnosis", "robots", "continuum_arm"))
     ap.add_argument("--case", required=True)
-    ap.add_argument("--plan", required=True, help="plan.json of the case's diagnosis")
+    ap.add_argument("--plan", required=True,
+                    help="plan.json of the case's diagnosis, or run_suite.py's result holding it")
     ap.add_argument("--take", type=int, default=1, help="how many of the proposed recordings (in order)")
     ap.add_argument("--sim", default=SIM)
     args = ap.parse_args()
     case_dir = os.path.join(args.suite, "cases", args.case)
     with open(os.path.join(case_dir, "case.json")) as f:
         case = json.load(f)
-    with open(args.plan) as f:
-        proposed = [c for c in json.load(f)["plan"] if c.get("inputs")][: args.take]
+    proposed = [c for c in load_plan(args.plan, args.case)["plan"] if c.get("inputs")][: args.take]
     if not proposed:
         sys.exit(f"record_arm_plan: {args.plan} proposes no playback")
     answers_path = os.path.join(args.suite, "answers.sealed.json")

@@ -86,6 +86,17 @@ def main():
             planned = json.load(f)[CASE + "-planned"]
         check(planned["effect"] == answer["effect"] and planned["planned_from"]["case"] == CASE,
               f"answer {planned}")
+        # The same plan inside a run_suite.py result (what a diagnosis kept), and a result
+        # whose diagnosis asked for none.
+        with open(plan_path, "w") as f:
+            json.dump({"results": [{"case": CASE, "plan": plan("step-b.csv", 1.5, None)}]}, f)
+        r = run(sim, suite, plan_path)
+        with open(os.path.join(out, "case.json")) as f:
+            check(r.returncode == 0 and len(json.load(f)["train"]) == 4, f"from a result: {r.stderr}")
+        with open(plan_path, "w") as f:
+            json.dump({"results": [{"case": CASE}]}, f)
+        r = run(sim, suite, plan_path)
+        check(r.returncode != 0 and "holds no plan of case" in r.stderr, f"no plan: {r.stderr}")
         with open(plan_path, "w") as f:
             json.dump(plan("walk.csv", 1, None), f)
         r = run(sim, suite, plan_path)

@@ -81,6 +81,12 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
         out["figures_missing"] = [name for name in ("located.svg", "diagnosis.svg")
                                   if not any(p.endswith("/" + name) and _is_svg(os.path.join(d, p))
                                              for p in out.get("figures", []))]
+        # The plan the diagnosis kept (docs/diagnosis.md, "A diagnosis plans by itself"): what
+        # it asks to record next (bench/diagnosis/record_arm_plan.py --plan-from RESULT.json).
+        plan = os.path.join(d, out.get("dir", ""), "plan.json")
+        if out.get("dir") and os.path.exists(plan):
+            with open(plan) as f:
+                out["plan"] = json.load(f)
         return out
 
 
