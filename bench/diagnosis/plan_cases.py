@@ -1,18 +1,24 @@
 #!/usr/bin/python3
 """The experiment that decides, closed on concealed cases: for a diagnosed case of a robot
-suite (bench/diagnosis/make_robot_cases.py), ask `gaitforge diagnose plan` which gaits
-would separate the diagnosis's explanations, record them on the case's own reference (the
+suite (bench/diagnosis/make_robot_cases.py, make_arm_cases.py), take the recordings that
+would separate the diagnosis's explanations (the plan the diagnosis kept, --kept, or a
+new one from `gaitforge diagnose plan`), record them on the case's own reference (the
 sealed answer's effect and numerics: the stand-in for the real robot running the proposed
-experiment), and write a new case that trains on the old recordings plus the proposed ones.
-Then diagnose it as any case (tests/diagnosis/run_suite.py --cases NAME+plan).
+experiment), and write a new case that trains on the old recordings plus the proposed ones
+and holds out the same. Then diagnose it as any case (tests/diagnosis/run_suite.py --cases
+CASE-planned); bench/diagnosis/plan_protocol.py does both for a whole suite.
 
     /usr/bin/python3 bench/diagnosis/plan_cases.py --suite tests/diagnosis/robots/walker \\
         --case anisotropic-1 --results tests/diagnosis/robots/results/walker-h05b-session22.json \\
         --timestep-ms 0.5 [--propose 2] [--random 12] [--out-suite DIR]
+    /usr/bin/python3 bench/diagnosis/plan_cases.py --suite tests/diagnosis/robots/continuum_arm \\
+        --case null-2 --results RESULT.json --kept --take 1 --out-suite tests/diagnosis/robots/continuum_arm
 
-The report is the case's entry in --results (run_suite.py --json-out). The new case goes to
---out-suite (default: a temporary suite beside nothing, printed) as cases/CASE+plan, with its
-answer copied into that suite's answers.sealed.json; the plan itself as plan.json in it.
+The report is the case's entry in --results (run_suite.py --json-out, which keeps the plan
+a diagnosis made as its "plan"). The new case goes to --out-suite (default: a temporary
+suite, printed) as cases/CASE-planned, with its answer (and `planned_from`: the case and the
+proposals recorded) in that suite's answers.sealed.json; the plan itself as plan.json in
+it. Deterministic: each planned recording's noise is seeded by the new case's name.
 """
 import argparse
 import json
@@ -22,6 +28,8 @@ import subprocess
 import sys
 import tempfile
 
+import numpy as np
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_arm_cases  # noqa: E402
 from make_cases import read_csv  # noqa: E402
@@ -30,6 +38,10 @@ from make_robot_cases import ROBOTS, disguise, simulate, overrides_text  # noqa:
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "diagnosis"))
 from run_suite import spec_text  # noqa: E402
+
+
+def seed_of(name, k):
+    return int(np.frombuffer(name.encode(), dtype=np.uint8).sum()) * 10 + k
 
 
 def report_of(results, case):
@@ -80,9 +92,11 @@ def record(bin_dir, robot, answer, proposal, dst, seed, case_dir=""):
     """The proposed gait (or varied playback) recorded on the case's reference, disguised as
     the suite's are."""
     if proposal.get("inputs"):  # the arm: make_arm_cases' reference and disguise
-        src = next(os.path.join(case_dir, split, proposal["inputs"]["from"])
-                   for split in ("train", "held_out")
-                   if os.path.exists(os.path.join(case_dir, split, proposal["inputs"]["from"])))
+        name = proposal["inputs"]["from"]
+        src = next((os.path.join(case_dir, split, name) for split in ("train", "held_out")
+                    if os.path.exists(os.path.join(case_dir, split, name))), None)
+        if src is None:
+            sys.exit(f"plan_cases: the plan plays '{name}', which case {case_dir} does not hold")
         with tempfile.TemporaryDirectory() as tmp:
             inputs, raw = os.path.join(tmp, "in.csv"), os.path.join(tmp, "raw.csv")
             varied_inputs(src, proposal["inputs"], inputs)
@@ -104,6 +118,9 @@ def main():
     ap.add_argument("--suite", required=True)
     ap.add_argument("--case", required=True)
     ap.add_argument("--results", required=True, help="run_suite.py --json-out holding the case")
+    ap.add_argument("--kept", action="store_true",
+                    help="record the plan the diagnosis kept (the result's plan) instead of planning anew")
+    ap.add_argument("--take", type=int, default=0, help="record only the first N proposals (0: all)")
     ap.add_argument("--timestep-ms", type=float, default=0, help="the diagnosis's timestep_ms")
     ap.add_argument("--propose", type=int, default=2)
     ap.add_argument("--random", type=int, default=12)
@@ -113,32 +130,45 @@ def main():
     a = ap.parse_args()
     with open(os.path.join(a.suite, "answers.sealed.json")) as f:
         answer = json.load(f)[a.case]
+    case_dir = os.path.join(a.suite, "cases", a.case)
+    report = report_of(a.results, a.case)
+    with open(os.path.join(case_dir, "case.json")) as f:
+        c = json.load(f)
+    if a.kept:
+        if not report.get("plan"):
+            sys.exit(f"plan_cases: the diagnosis of {a.case} in {a.results} kept no plan")
+        p = report["plan"]
+    else:
+        with tempfile.TemporaryDirectory() as work:
+            c, p = plan(a.bin, a.suite, a.case, report, a, work)
+    proposals = p["plan"][: a.take] if a.take > 0 else p["plan"]
     out_suite = a.out_suite or tempfile.mkdtemp(prefix="gf-plan-suite-")
-    new_case = a.case + "+plan"
+    new_case = a.case + "-planned"
     new_dir = os.path.join(out_suite, "cases", new_case)
-    with tempfile.TemporaryDirectory() as work:
-        c, p = plan(a.bin, a.suite, a.case, report_of(a.results, a.case), a, work)
-        os.makedirs(os.path.join(new_dir, "train"), exist_ok=True)
-        shutil.copy(os.path.join(work, "plan.json"), os.path.join(new_dir, "plan.json"))
+    shutil.rmtree(new_dir, ignore_errors=True)
     for split in ("train", "held_out"):
         for rel in c[split]:
             os.makedirs(os.path.dirname(os.path.join(new_dir, rel)), exist_ok=True)
             for ext in ("", ".json"):
-                shutil.copy(os.path.join(a.suite, "cases", a.case, rel + ext), os.path.join(new_dir, rel + ext))
-    for k, proposal in enumerate(p["plan"]):
+                shutil.copy(os.path.join(case_dir, rel + ext), os.path.join(new_dir, rel + ext))
+    with open(os.path.join(new_dir, "plan.json"), "w") as f:
+        json.dump(p, f, indent=1)
+    added = []
+    for k, proposal in enumerate(proposals):
         rel = f"train/planned-{k + 1}.csv"
-        record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), 7000 + k,
-               os.path.join(a.suite, "cases", a.case))
+        record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), seed_of(new_case, k),
+               case_dir)
         c["train"].append(rel)
+        added.append({"file": rel, "candidate": proposal["name"], "inputs": proposal.get("inputs")})
     with open(os.path.join(new_dir, "case.json"), "w") as f:
         f.write(json.dumps(c, indent=2) + "\n")
     answers_path = os.path.join(out_suite, "answers.sealed.json")
     answers = json.load(open(answers_path)) if os.path.exists(answers_path) else {}
-    answers[new_case] = answer
+    answers[new_case] = {**answer, "planned_from": {"case": a.case, "recordings": added}}
     with open(answers_path, "w") as f:
         f.write(json.dumps(answers, indent=2) + "\n")
     print(f"wrote {os.path.relpath(new_dir)}: {len(c['train'])} training recordings "
-          f"({len(p['plan'])} planned), {len(c['held_out'])} held out")
+          f"({len(added)} planned), {len(c['held_out'])} held out")
     return 0
 
 

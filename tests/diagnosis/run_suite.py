@@ -82,7 +82,7 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
                                   if not any(p.endswith("/" + name) and _is_svg(os.path.join(d, p))
                                              for p in out.get("figures", []))]
         # The plan the diagnosis kept (docs/diagnosis.md, "A diagnosis plans by itself"): what
-        # it asks to record next (bench/diagnosis/record_arm_plan.py --plan-from RESULT.json).
+        # it asks to record next (bench/diagnosis/plan_cases.py --kept --results RESULT.json).
         plan = os.path.join(d, out.get("dir", ""), "plan.json")
         if out.get("dir") and os.path.exists(plan):
             with open(plan) as f:
