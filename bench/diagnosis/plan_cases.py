@@ -23,6 +23,7 @@ it. Deterministic: each planned recording's noise is seeded by the new case's na
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -92,7 +93,8 @@ def record(bin_dir, robot, answer, proposal, dst, seed, case_dir=""):
     """The proposed gait (or varied playback) recorded on the case's reference, disguised as
     the suite's are."""
     if proposal.get("inputs"):  # the arm: make_arm_cases' reference and disguise
-        name = proposal["inputs"]["from"]
+        # A diagnosis's own plan names its local copies of the recordings HASH-NAME.
+        name = re.sub(r"^[0-9a-f]{16}-", "", proposal["inputs"]["from"])
         src = next((os.path.join(case_dir, split, name) for split in ("train", "held_out")
                     if os.path.exists(os.path.join(case_dir, split, name))), None)
         if src is None:

@@ -46,23 +46,32 @@ def main():
     for case in names:
         first = run_suite.diagnose(args.bin_dir, args.suite, case, args.screening, args.full, args.workers)
         results.append(first)
+        save(args.json_out, results)
         final = first
         if first.get("plan"):
             plan = os.path.join(os.path.dirname(os.path.abspath(args.json_out)), f".{case}-result.json")
             with open(plan, "w") as f:
                 json.dump({"results": [first]}, f)
-            subprocess.run([sys.executable, os.path.join(HERE, "plan_cases.py"), "--suite",
-                            args.suite, "--case", case, "--results", plan, "--kept", "--take", "1",
-                            "--out-suite", args.suite, "--bin", args.bin_dir], check=True)
+            recorded = subprocess.run([sys.executable, os.path.join(HERE, "plan_cases.py"), "--suite",
+                                       args.suite, "--case", case, "--results", plan, "--kept",
+                                       "--take", "1", "--out-suite", args.suite, "--bin", args.bin_dir])
             os.remove(plan)
+            if recorded.returncode != 0:
+                rows.append((case, verdict(first), "yes", "not recorded (plan_cases.py failed)"))
+                print("%-18s %-40s asked: %-3s -> %s" % rows[-1], flush=True)
+                continue
             final = run_suite.diagnose(args.bin_dir, args.suite, case + "-planned", args.screening,
                                        args.full, args.workers)
             results.append(final)
         rows.append((case, verdict(first), "yes" if first.get("plan") else "no", verdict(final)))
         print("%-18s %-40s asked: %-3s -> %s" % rows[-1], flush=True)
-        with open(args.json_out, "w") as f:
-            json.dump({"results": results}, f, indent=1)
+        save(args.json_out, results)
     return 0
+
+
+def save(path, results):
+    with open(path, "w") as f:
+        json.dump({"results": results}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -61,7 +61,8 @@ def main():
             json.dump({CASE: answer}, f)
         plan_path = os.path.join(tmp, "plan.json")
         with open(plan_path, "w") as f:
-            json.dump(plan("step-a.csv", 0.5, 0.75), f)
+            # As a diagnosis keeps it: its local copies are named HASH-NAME.
+            json.dump(plan("0123456789abcdef-step-a.csv", 0.5, 0.75), f)
         r = run(args.bin_dir, suite, plan_path)
         check(r.returncode == 0, f"plan_cases failed: {r.stderr}")
         out = os.path.join(suite, "cases", CASE + "-planned")
