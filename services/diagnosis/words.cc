@@ -230,6 +230,10 @@ std::string PlanPart(const std::string& report_json, const std::string& dir) {
     double decisive = NAN;
     const std::string named = plan::FirstNamed(report_json);
     const double given = plan::RecordedSeparation(*text, named, &decisive);
+    if (!std::isfinite(given))  // the plan could not compare it (a fit it left out)
+      return absl::StrFormat("to confirm %s, the recordings that would part it from the model "
+                             "without it (%s/plan.json):\n%s",
+                             named, dir, *words);
     return absl::StrFormat(
         "to confirm %s: no recording given parts it from the model without it by more than "
         "%.2g times what the model leaves unexplained (%g would decide); the recordings that "

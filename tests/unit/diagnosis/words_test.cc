@@ -94,6 +94,16 @@ TEST(ReportWords, AFoundEffectThatNoRecordingPartsEndsWithTheRecordingToConfirmI
             std::string::npos)
       << *w;
   EXPECT_NE(w->find("1. gait-a.csv, three times as long: 30 cycles"), std::string::npos) << *w;
+  // A plan that did not fit the named effect (no column to read): no figure is made up.
+  std::string other = kFound;
+  const std::string id = R"("id": "tether.constant")";
+  other.replace(other.find(id), id.size(), R"("id": "tether.growing")");
+  auto unread = ReportWords(other, dir);
+  ASSERT_TRUE(unread.ok()) << unread.status();
+  EXPECT_NE(unread->find("to confirm tether.growing, the recordings that would part it"),
+            std::string::npos)
+      << *unread;
+  EXPECT_EQ(unread->find("nan"), std::string::npos) << *unread;
 }
 
 TEST(ReportWords, AFoundEffectWithItsMagnitudesInGeneOrderAndTheRunnersUp) {
