@@ -49,13 +49,11 @@ def main():
         save(args.json_out, results)
         final = first
         if first.get("plan"):
-            plan = os.path.join(os.path.dirname(os.path.abspath(args.json_out)), f".{case}-result.json")
-            with open(plan, "w") as f:
-                json.dump({"results": [first]}, f)
+            # The result just saved holds the plan the diagnosis kept.
             recorded = subprocess.run([sys.executable, os.path.join(HERE, "plan_cases.py"), "--suite",
-                                       args.suite, "--case", case, "--results", plan, "--kept",
-                                       "--take", "1", "--out-suite", args.suite, "--bin", args.bin_dir])
-            os.remove(plan)
+                                       args.suite, "--case", case, "--results", args.json_out,
+                                       "--kept", "--take", "1", "--out-suite", args.suite,
+                                       "--bin", args.bin_dir])
             if recorded.returncode != 0:
                 rows.append((case, verdict(first), "yes", "not recorded (plan_cases.py failed)"))
                 print("%-18s %-40s asked: %-3s -> %s" % rows[-1], flush=True)
