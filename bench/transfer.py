@@ -288,7 +288,17 @@ def calibrate_and_evolve(args, build):
     fit = {n: g for (n, *_), g in zip(STRUCTURE, genes)}
     print(f"calibration on {build}: {fit} ({time.monotonic() - t0:.0f} s)", flush=True)
     db, _ = evolve(args, f"calibrated-{build}", args.generations, True, db=db, calibration=ident)
-    return db, time.monotonic() - t0, fit
+    ensemble = ensemble_of(db, f"calibrated-{build}")
+    print(f"ensemble from the calibration on {build}: {ensemble}", flush=True)
+    return db, time.monotonic() - t0, {"fit": fit, "ensemble": ensemble}
+
+
+def ensemble_of(db, study):
+    """The parameter ranges the coordinator gave the robust study `study` (its stored spec)."""
+    con = sqlite3.connect(db)
+    spec_json = con.execute("SELECT spec_json FROM studies WHERE name = ?", (study,)).fetchone()[0]
+    robust = json.loads(spec_json).get("objective", {}).get("robust", {})
+    return {p["name"]: [p.get("lo", 0.0), p.get("hi", 0.0)] for p in robust.get("parameters", [])}
 
 
 def table(sets, where, achieved, walls):

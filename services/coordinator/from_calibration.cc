@@ -9,6 +9,7 @@
 #include "robots/registry.h"
 #include "services/coordinator/corrected_model.h"
 #include "services/core/objective_catalog.h"
+#include "spdlog/spdlog.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -27,11 +28,40 @@ bool IsNuisance(const core::ObjectiveInfo& info, const std::string& gene) {
   return std::find(info.nuisance.begin(), info.nuisance.end(), gene) != info.nuisance.end();
 }
 
+// The ranges calibration `id`'s recordings leave open around its best (open_ranges.h), from
+// every evaluation of generations 0 .. last; empty when the best has no per-recording errors.
+std::vector<GeneRange> LeftOpen(storage::StudyStore& store, const std::string& id, int last,
+                                const storage::HofRecord& best) {
+  std::vector<storage::IndividualRecord> evaluated;
+  for (int g = 0; g <= last; ++g) {
+    auto members = store.Individuals(id, g);
+    if (!members.ok()) continue;
+    for (auto& m : *members) evaluated.push_back(std::move(m));
+  }
+  const storage::IndividualRecord* found = nullptr;
+  for (const auto& r : evaluated)
+    if (r.generation == best.origin_generation && r.member == best.origin_member) found = &r;
+  if (found == nullptr) return {};
+  int accepted = 0;
+  auto out = RangesLeftOpen(evaluated, *found, best.genes.size(), &accepted);
+  spdlog::info("from_calibration {}: {} of {} evaluations fit the recordings as well as its best",
+               id, accepted, evaluated.size());
+  return out;
+}
+
 }  // namespace
 
+std::vector<GeneRange> SpreadRanges(const std::vector<double>& best,
+                                    const std::vector<double>& spread) {
+  std::vector<GeneRange> out(std::min(best.size(), spread.size()));
+  for (size_t i = 0; i < out.size(); ++i)
+    if (std::isfinite(spread[i])) out[i] = {best[i] - 2 * spread[i], best[i] + 2 * spread[i]};
+  return out;
+}
+
 absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibration,
-                              const std::vector<double>& best, const std::vector<double>& spread,
-                              v1::StudySpec* spec) {
+                              const std::vector<double>& best,
+                              const std::vector<GeneRange>& ranges, v1::StudySpec* spec) {
   const auto& fit = calibration.objective();
   const core::ObjectiveInfo* info = core::FindObjective(fit.name());
   if (info == nullptr || !info->calibration)
@@ -62,11 +92,11 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
   if (fit.params().count("timestep_ms") && !o->params().count("timestep_ms"))
     (*o->mutable_params())["timestep_ms"] = fit.params().at("timestep_ms");
   if (!o->has_robust()) return absl::OkStatus();
-  for (int i = 0; i < calibration.bounds_size() && i < static_cast<int>(spread.size()); ++i) {
+  for (int i = 0; i < calibration.bounds_size() && i < static_cast<int>(ranges.size()); ++i) {
     const auto& b = calibration.bounds(i);
-    if (IsNuisance(*info, b.name()) || !std::isfinite(spread[i])) continue;
-    const double lo = std::max(b.lo(), best[i] - 2 * spread[i]);
-    const double hi = std::min(b.hi(), best[i] + 2 * spread[i]);
+    if (IsNuisance(*info, b.name()) || !ranges[i].ok()) continue;
+    const double lo = std::max(b.lo(), ranges[i].lo);
+    const double hi = std::min(b.hi(), ranges[i].hi);
     if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi);
   }
   return absl::OkStatus();
@@ -92,8 +122,10 @@ absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& 
   if (!hof.ok() || hof->second.empty() || !hof->second[0].valid)
     return absl::FailedPreconditionError(
         absl::StrCat(kField, ": study ", id, " has no valid fit in its hall of fame"));
-  return ApplyCalibration(id, calibration, hof->second[0].genes,
-                          spread_after(id, hof->first), spec);
+  const storage::HofRecord& best = hof->second[0];
+  std::vector<GeneRange> ranges = SpreadRanges(best.genes, spread_after(id, hof->first));
+  if (spec->objective().has_robust()) ranges = Hull(ranges, LeftOpen(store, id, hof->first, best));
+  return ApplyCalibration(id, calibration, best.genes, ranges, spec);
 }
 
 }  // namespace gaitforge::coordinator

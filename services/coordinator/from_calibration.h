@@ -10,6 +10,7 @@
 
 #include "absl/status/status.h"
 #include "gaitforge/v1/study.pb.h"
+#include "services/coordinator/open_ranges.h"
 #include "storage/study_store.h"
 
 namespace gaitforge::coordinator {
@@ -18,18 +19,25 @@ namespace gaitforge::coordinator {
 // when its engine keeps none).
 using SpreadFn = std::function<std::vector<double>(const std::string& id, int g)>;
 
+// best +- 2 spread per gene (a gene with a non-finite spread gets none).
+std::vector<GeneRange> SpreadRanges(const std::vector<double>& best,
+                                    const std::vector<double>& spread);
+
 // Fills spec->objective from calibration study `id` (its stored spec, the best genes of its
-// hall of fame and their spread): the gait objective of the calibrated robot
+// hall of fame and the ranges around them): the gait objective of the calibrated robot
 // (a built-in robot's own calibration objective -> its descriptor's distance objective,
 // robot.calibration -> robot.distance with its robot; a spec naming another is an error), option set = the calibration's own set, the
 // fitted values (not the nuisances), then the spec's own items (which win); the
 // calibration's timestep_ms unless the spec sets one; with robust, one parameter per fitted
-// value over value +- 2 sd inside the calibration's bounds, unless the spec lists it.
+// value over its range inside the calibration's bounds, unless the spec lists it.
 absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibration,
-                              const std::vector<double>& best, const std::vector<double>& spread,
-                              v1::StudySpec* spec);
+                              const std::vector<double>& best,
+                              const std::vector<GeneRange>& ranges, v1::StudySpec* spec);
 
-// ApplyCalibration for objective.from_calibration (no-op when unset). NotFound for an
+// ApplyCalibration for objective.from_calibration (no-op when unset). With robust, each
+// gene's range is the hull of best +- 2 sd of the final search spread and of what the
+// recordings leave open: the values of every evaluation the calibration made whose
+// per-recording errors are indistinguishable from its best's (RangesLeftOpen). NotFound for an
 // unknown study; FailedPrecondition for one not completed, not a calibration, or without a
 // valid best; InvalidArgument when from_diagnosis is set too.
 absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& spread_after,

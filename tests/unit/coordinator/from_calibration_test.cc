@@ -43,7 +43,7 @@ TEST(FromCalibration, TheFitBecomesTheModelAndItsSpreadTheEnsemble) {
   v1::StudySpec c = Calibration("caterpillar.calibration");
   (*c.mutable_objective()->mutable_params())["timestep_ms"] = 0.5;
   v1::StudySpec g = Gait(true);
-  ASSERT_TRUE(ApplyCalibration("cal-1", c, kBest, kSpread, &g).ok());
+  ASSERT_TRUE(ApplyCalibration("cal-1", c, kBest, SpreadRanges(kBest, kSpread), &g).ok());
   const auto& o = g.objective();
   EXPECT_EQ(o.name(), "caterpillar.distance");
   // The fitted values first, the spec's own items after (they win); no nuisance.
@@ -64,7 +64,7 @@ TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay
   EXPECT_FALSE(g.objective().has_robust());
   v1::StudySpec listed = Gait(true);
   AddEnsembleRange(listed.mutable_objective(), "actuators.force_n", 8.0, 8.5);
-  ASSERT_TRUE(ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, kSpread, &listed).ok());
+  ASSERT_TRUE(ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, SpreadRanges(kBest, kSpread), &listed).ok());
   ASSERT_EQ(listed.objective().robust().parameters_size(), 2);
   EXPECT_EQ(listed.objective().robust().parameters(0).lo(), 8.0);  // the spec's own
 }
@@ -74,7 +74,7 @@ TEST(FromCalibration, ARobotCalibrationGivesThatRobotsDistance) {
   c.mutable_objective()->set_robot("walker");
   (*c.mutable_objective()->mutable_options())["set"] = "ground.contact_cfm=2e-05";
   v1::StudySpec g;
-  ASSERT_TRUE(ApplyCalibration("cal-2", c, kBest, kSpread, &g).ok());
+  ASSERT_TRUE(ApplyCalibration("cal-2", c, kBest, SpreadRanges(kBest, kSpread), &g).ok());
   EXPECT_EQ(g.objective().name(), "robot.distance");
   EXPECT_EQ(g.objective().robot(), "walker");
   EXPECT_EQ(g.objective().options().at("set"),

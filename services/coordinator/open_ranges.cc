@@ -1,0 +1,76 @@
+#include "services/coordinator/open_ranges.h"
+
+#include <algorithm>
+#include <string>
+
+namespace gaitforge::coordinator {
+
+double StudentT95(int df) {
+  static const double table[] = {6.314, 2.920, 2.353, 2.132, 2.015, 1.943, 1.895, 1.860,
+                                 1.833, 1.812, 1.796, 1.782, 1.771, 1.761, 1.753, 1.746,
+                                 1.740, 1.734, 1.729, 1.725, 1.721, 1.717, 1.714, 1.711,
+                                 1.708, 1.706, 1.703, 1.701, 1.699, 1.697};
+  constexpr int kTable = sizeof(table) / sizeof(table[0]);
+  if (df < 1) return NAN;
+  if (df <= kTable) return table[df - 1];
+  const double z = 1.6449;  // the normal quantile with the first correction term
+  return z + (z * z * z + z) / (4.0 * df);
+}
+
+std::vector<double> RecordingErrors(const storage::IndividualRecord& r) {
+  std::vector<double> out;
+  for (;;) {
+    auto it = r.metrics.find("error_" + std::to_string(out.size()));
+    if (it == r.metrics.end()) return out;
+    out.push_back(it->second);
+  }
+}
+
+bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<double>& x) {
+  const size_t n = best.size();
+  if (n < 2 || x.size() != n) return false;
+  double mean = 0;
+  for (size_t i = 0; i < n; ++i) mean += (x[i] - best[i]) / n;
+  double ss = 0;
+  for (size_t i = 0; i < n; ++i) ss += std::pow(x[i] - best[i] - mean, 2);
+  const double sd = std::sqrt(ss / (n - 1));
+  if (!std::isfinite(mean) || !std::isfinite(sd)) return false;
+  return mean <= StudentT95(static_cast<int>(n) - 1) * sd / std::sqrt(static_cast<double>(n));
+}
+
+std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
+                                      const storage::IndividualRecord& best, size_t genes,
+                                      int* accepted) {
+  const std::vector<double> reference = RecordingErrors(best);
+  if (accepted) *accepted = 0;
+  if (reference.size() < 2) return {};
+  std::vector<GeneRange> out(genes);
+  auto widen = [&](const std::vector<double>& x) {
+    for (size_t g = 0; g < genes && g < x.size(); ++g) {
+      out[g].lo = std::isfinite(out[g].lo) ? std::min(out[g].lo, x[g]) : x[g];
+      out[g].hi = std::isfinite(out[g].hi) ? std::max(out[g].hi, x[g]) : x[g];
+    }
+  };
+  widen(best.genes);
+  for (const auto& r : evaluated) {
+    if (!r.valid || r.genes.size() != genes) continue;
+    if (!IndistinguishableFrom(reference, RecordingErrors(r))) continue;
+    widen(r.genes);
+    if (accepted) ++*accepted;
+  }
+  return out;
+}
+
+std::vector<GeneRange> Hull(const std::vector<GeneRange>& a, const std::vector<GeneRange>& b) {
+  std::vector<GeneRange> out(std::max(a.size(), b.size()));
+  for (size_t g = 0; g < out.size(); ++g) {
+    const GeneRange x = g < a.size() ? a[g] : GeneRange{};
+    const GeneRange y = g < b.size() ? b[g] : GeneRange{};
+    if (!x.ok()) out[g] = y;
+    else if (!y.ok()) out[g] = x;
+    else out[g] = {std::min(x.lo, y.lo), std::max(x.hi, y.hi)};
+  }
+  return out;
+}
+
+}  // namespace gaitforge::coordinator

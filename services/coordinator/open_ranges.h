@@ -1,0 +1,42 @@
+#pragma once
+// What a calibration's recordings leave open (docs/objectives.md, "From a calibration"):
+// the parameter values of every evaluation the recordings cannot tell from the best fit.
+// A search's final spread says where the search stopped, not what the data pin: five
+// recordings over six structural parameters left MuJoCo's fit a CMA-ES spread of 1-10% of
+// each value while its held-out recording grew worse (bench/results/transfer-calibrated-*).
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "storage/study_store.h"
+
+namespace gaitforge::coordinator {
+
+struct GeneRange {
+  double lo = NAN, hi = NAN;  // NAN: no range
+  bool ok() const { return std::isfinite(lo) && std::isfinite(hi) && lo <= hi; }
+};
+
+// The one-sided 95% quantile of Student's t with df >= 1 degrees of freedom.
+double StudentT95(int df);
+
+// An evaluation's per-recording errors (metrics error_0 .. error_<n-1>, docs/calibration.md
+// "Metrics"); empty when it has none.
+std::vector<double> RecordingErrors(const storage::IndividualRecord& r);
+
+// Whether errors x are no worse than best's beyond chance: over n >= 2 recordings the paired
+// differences d = x - best have mean at most StudentT95(n - 1) sd(d) / sqrt(n). False when
+// the sizes differ or n < 2.
+bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<double>& x);
+
+// Per gene (`genes` of them), the extent of the valid evaluations whose recording errors
+// are indistinguishable from best's (best among them). Empty when best has fewer than two
+// recording errors. `accepted`, when given, receives how many evaluations were kept.
+std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
+                                      const storage::IndividualRecord& best, size_t genes,
+                                      int* accepted = nullptr);
+
+// Per gene, the hull of a and b (a gene whose range is missing in one takes the other's).
+std::vector<GeneRange> Hull(const std::vector<GeneRange>& a, const std::vector<GeneRange>& b);
+
+}  // namespace gaitforge::coordinator
