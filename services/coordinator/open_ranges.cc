@@ -29,10 +29,15 @@ std::vector<double> RecordingErrors(const storage::IndividualRecord& r) {
 bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<double>& x) {
   const size_t n = best.size();
   if (n < 2 || x.size() != n) return false;
+  std::vector<double> d(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!(best[i] > 0) || !(x[i] > 0)) return false;
+    d[i] = std::log(x[i] / best[i]);
+  }
   double mean = 0;
-  for (size_t i = 0; i < n; ++i) mean += (x[i] - best[i]) / n;
+  for (double v : d) mean += v / n;
   double ss = 0;
-  for (size_t i = 0; i < n; ++i) ss += std::pow(x[i] - best[i] - mean, 2);
+  for (double v : d) ss += (v - mean) * (v - mean);
   const double sd = std::sqrt(ss / (n - 1));
   if (!std::isfinite(mean) || !std::isfinite(sd)) return false;
   return mean <= StudentT95(static_cast<int>(n) - 1) * sd / std::sqrt(static_cast<double>(n));

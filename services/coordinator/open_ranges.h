@@ -25,8 +25,11 @@ double StudentT95(int df);
 std::vector<double> RecordingErrors(const storage::IndividualRecord& r);
 
 // Whether errors x are no worse than best's beyond chance: over n >= 2 recordings the paired
-// differences d = x - best have mean at most StudentT95(n - 1) sd(d) / sqrt(n). False when
-// the sizes differ or n < 2.
+// log ratios d = log(x / best) have mean at most StudentT95(n - 1) sd(d) / sqrt(n). Ratios,
+// not differences: recordings' errors differ by an order of magnitude (one gait the model
+// misses by 5 mm, another by 0.6), and differences then let the largest decide alone (the
+// uncalibrated model passed as no worse than MuJoCo's fit). False when the sizes differ,
+// n < 2 or an error is not positive.
 bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<double>& x);
 
 // Per gene (`genes` of them), the extent of the valid evaluations whose recording errors

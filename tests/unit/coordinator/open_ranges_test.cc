@@ -55,6 +55,14 @@ TEST(OpenRanges, IndistinguishableWhenThePairedDifferencesDoNotSaySo) {
   EXPECT_TRUE(IndistinguishableFrom(best, {0.9, 0.9, 0.9, 0.9, 0.9}));  // better
   EXPECT_FALSE(IndistinguishableFrom(best, {1.0, 1.0, 1.0, 1.0}));   // another count
   EXPECT_FALSE(IndistinguishableFrom({1.0}, {1.0}));                  // one recording
+  EXPECT_FALSE(IndistinguishableFrom(best, {0, 1, 1, 1, 1}));         // an error of 0
+}
+
+// One recording the model misses by far more than the others must not decide alone: the
+// uncalibrated model of MuJoCo's calibration (5.6, 2.3, 0.9, 0.9, 1.7 mm against the fit's
+// 0.6, 0.6, 0.6, 0.6, 1.2) passed a test on differences; on ratios it does not.
+TEST(OpenRanges, ARecordingWithALargeErrorDoesNotDecideAlone) {
+  EXPECT_FALSE(IndistinguishableFrom({0.6, 0.6, 0.6, 0.6, 1.2}, {5.6, 2.3, 0.9, 0.9, 1.7}));
 }
 
 TEST(OpenRanges, TheExtentOfWhatFitsAsWellSkippingInvalidAndOtherSizes) {
