@@ -99,11 +99,23 @@ bool Contains(const FitScore& outer, const FitScore& inner) {
   });
 }
 
+// Whether `fit` misses beating `member` by pair_gain at the finest step (false when the
+// rule names no such variant or either fit lacks it).
+bool NoGainAtFinestStep(const FitScore& fit, const FitScore& member, const DecisionRule& rule) {
+  const int f = rule.finest_step;
+  if (f < 0 || f >= static_cast<int>(fit.held_variants.size()) ||
+      f >= static_cast<int>(member.held_variants.size()))
+    return false;
+  return fit.held_variants[f] > (1 - rule.pair_gain) * member.held_variants[f];
+}
+
 // A larger fit that contains `member` and does not beat it by the BIC margin and pair_gain
-// held out: it adds nothing the member lacks (Decide drops it; WhyNotNamed says so).
+// held out (on the mean and at the finest step): it adds nothing the member lacks (Decide
+// drops it; WhyNotNamed says so).
 bool AddsNothingTo(const FitScore& fit, const FitScore& member, const DecisionRule& rule) {
   return Contains(fit, member) && (fit.bic > member.bic - rule.margin ||
-                                   fit.held > (1 - rule.pair_gain) * member.held);
+                                   fit.held > (1 - rule.pair_gain) * member.held ||
+                                   NoGainAtFinestStep(fit, member, rule));
 }
 
 bool Overlaps(const FitScore& a, const FitScore& b) {
@@ -230,8 +242,8 @@ std::string WhyNotNamed(const FitScore& base, const FitScore& fit, const FitScor
   if (std::string why = Shortfall(base, fit, rule); !why.empty()) return why;
   if (!winner) return "passed every test";
   const std::string larger = absl::StrFormat(
-      "(a larger fit must beat its member by the BIC margin and %.0f%% held out)",
-      100 * rule.pair_gain);
+      "(a larger fit must beat its member by the BIC margin and %.0f%% held out%s)",
+      100 * rule.pair_gain, rule.finest_step >= 0 ? ", on the mean and at the finest step" : "");
   if (Contains(fit, *winner))
     return "passed every test, but adds nothing the named explanation lacks " + larger;
   for (const FitScore* m : others)  // as Decide: a passing member it does not beat

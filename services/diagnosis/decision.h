@@ -27,6 +27,11 @@ struct DecisionRule {
   double paired_t = 2.015;      // and wins the paired comparison across variants (one-sided
                                 // 5% at 5 degrees of freedom: six variants)
   double pair_gain = 0.05;      // a pair replaces its member only if 5% better held out
+  // The index in held_variants of the finest-step numeric variant (-1: none). A pair must
+  // beat its member by pair_gain there too: a partner that the model's own step asks for
+  // vanishes at a finer one (the walker's 12-14 ms lag beside a deadband or a slope at
+  // 0.5 ms against 0.25 ms recordings; both named alone when diagnosed at 0.25 ms).
+  int finest_step = -1;
   // The held-out error's own spread under numerically irrelevant variants (the baseline's
   // sd across them): two explanations whose held-out errors differ by less cannot be told
   // apart by the held-out recordings, however consistent the difference (Decide's rival).

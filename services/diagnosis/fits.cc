@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -41,6 +42,18 @@ std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
       v = absl::StrFormat("%s%.9g", prefix,
                           std::stod(v.substr(prefix.size())) * d.timestep_ms() * 1e-3 / h->value);
   return out;
+}
+
+int FinestStepVariant(const std::vector<std::string>& variants) {
+  const std::string prefix = std::string(kTimestepParam) + "=";
+  int finest = -1;
+  double least = 0;
+  for (int i = 0; i < static_cast<int>(variants.size()); ++i) {
+    if (variants[i].rfind(prefix, 0) != 0) continue;
+    const double h = std::strtod(variants[i].c_str() + prefix.size(), nullptr);
+    if (h > 0 && (finest < 0 || h < least)) finest = i, least = h;
+  }
+  return finest;
 }
 
 std::string BaseSet(const v1::DiagnosisSpec& d, const std::string& extra_set) {

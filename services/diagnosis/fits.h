@@ -35,6 +35,11 @@ struct Candidate : FitScore {
 // timesteps and contact softnesses, those of them whose parameter d's robot has.
 std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d);
 
+// The index of the variant with the smallest timestep among `variants` (NumericVariants'
+// "simulation.timestep_s=H" entries), -1 when none has one. The model's own step ("") is
+// coarser than the finest variant by construction (the variants halve it).
+int FinestStepVariant(const std::vector<std::string>& variants);
+
 // d's robot: a built-in robot, or the descriptor the spec carries.
 absl::StatusOr<std::shared_ptr<const robots::RobotDescriptor>> RobotOf(const v1::DiagnosisSpec& d);
 

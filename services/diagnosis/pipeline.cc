@@ -351,6 +351,7 @@ void DecideStage(RunState& s) {
   s.rule.margin = s.d.margin();
   s.rule.held_floor = s.floor_sd;
   s.rule.train_floor = SampleSd(s.variant_train);
+  s.rule.finest_step = FinestStepVariant(NumericVariants(s.d));
   s.decision = DecideRequired(
       s.base, std::vector<FitScore>(s.full.begin(), s.full.end()), s.rule,
       [&](int i) { return Judge(s, &s.full[i]).unneeded_effects; }, &s.set_aside);

@@ -230,7 +230,8 @@ std::string WriteReport(RunState& s) {
                   ", \"error_unit\": ", JsonQuote(s.rule.error_unit),
                   ", \"margin\": ", Num(s.rule.margin), ", \"held_out_gain\": ",
                   Num(s.rule.held_out_gain), ", \"paired_t\": ", Num(s.rule.paired_t),
-                  ", \"pair_gain\": ", Num(s.rule.pair_gain), "}, \"overlay\": ",
+                  ", \"pair_gain\": ", Num(s.rule.pair_gain),
+                  ", \"finest_step_variant\": ", s.rule.finest_step, "}, \"overlay\": ",
                   Overlay(s, shown), ", \"dir\": ", JsonQuote(s.in.dir));
   // The figures: drawn from the report itself, then listed in it (only those written).
   const std::string path = s.in.dir + "/diagnosis.json";

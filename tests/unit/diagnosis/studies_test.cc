@@ -195,6 +195,10 @@ TEST(NumericsFirst, ChoosesAFinerStepAndTheWholeDiagnosisMovesToIt) {
   // A coarser step or a contact variant never counts; within the share, none.
   EXPECT_EQ(FinerStepMs(variants, {4.4e-3, 4.0e-3, 3.9e-3, 1e-3, 1e-4}, 1.0), -1);
   EXPECT_EQ(FinerStepMs(variants, {}, 1.0), -1);
+  // The finest-step variant a pair must also win at (decision.h, DecisionRule::finest_step).
+  EXPECT_EQ(FinestStepVariant(variants), 1);
+  EXPECT_EQ(FinestStepVariant({"", "simulation.timestep_s=0.00125", "simulation.timestep_s=0.00025"}), 2);
+  EXPECT_EQ(FinestStepVariant({"", "ground.contact_cfm=3e-5"}), -1);
 
   v1::DiagnosisSpec d = Spec();
   EXPECT_EQ(d.numerics(), "off");
