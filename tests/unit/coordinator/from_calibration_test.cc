@@ -6,28 +6,12 @@
 #include <gtest/gtest.h>
 
 #include "services/coordinator/corrected_model.h"
-#include "storage/study_store.h"
-#include "tests/support/temp_dir.h"
+#include "tests/unit/coordinator/calibration_fixture.h"
 
 namespace gaitforge::coordinator {
 namespace {
 
 using ::testing::HasSubstr;
-
-v1::StudySpec Calibration(const std::string& objective) {
-  v1::StudySpec c;
-  c.mutable_objective()->set_name(objective);
-  for (const auto& [name, lo, hi] : std::vector<std::tuple<std::string, double, double>>{
-           {"actuators.force_n", 7.0, 11.0},
-           {"scale.link_stiffness", 0.7, 1.4},
-           {"nuisance.time_offset_s", -0.05, 0.05}}) {
-    auto* b = c.add_bounds();
-    b->set_name(name);
-    b->set_lo(lo);
-    b->set_hi(hi);
-  }
-  return c;
-}
 
 v1::StudySpec Gait(bool robust) {
   v1::StudySpec g;
@@ -99,20 +83,14 @@ TEST(FromCalibration, RefusesWhatIsNoCalibrationOrAnotherObjective) {
 // the database does not hold (NotFound: the CLI's exit 3), a calibration still running.
 TEST(FromCalibration, RefusesBothStartsAnUnknownIdAndARunningStudy) {
   testing::TempDir dir;
-  auto store = storage::OpenSqliteStore(dir.File("s.db"));
-  ASSERT_TRUE(store.ok()) << store.status();
-  storage::StudyRecord running;
-  running.study_id = "cal-running";
-  running.name = "cal";
-  running.spec = Calibration("caterpillar.calibration").SerializeAsString();
-  running.state = "running";
-  ASSERT_TRUE((*store)->CreateStudy(running).get().ok());
+  auto store = StoreWithCalibration(dir, "cal-running", "running");
+  ASSERT_NE(store, nullptr);
   const SpreadFn spread = [](const std::string&, int) { return std::vector<double>{}; };
   auto resolve = [&](const std::string& id, const std::string& diagnosis) {
     v1::StudySpec g = Gait(true);
     g.mutable_objective()->set_from_calibration(id);
     g.mutable_objective()->set_from_diagnosis(diagnosis);
-    return ResolveFromCalibration(**store, spread, &g);
+    return ResolveFromCalibration(*store, spread, &g);
   };
   auto both = resolve("cal-running", "diag-1");
   EXPECT_EQ(both.code(), absl::StatusCode::kInvalidArgument);

@@ -5,8 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "services/coordinator/from_calibration.h"
-#include "storage/study_store.h"
-#include "tests/support/temp_dir.h"
+#include "tests/unit/coordinator/calibration_fixture.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -94,37 +93,18 @@ TEST(OpenRanges, HullTakesWhatEitherHas) {
   EXPECT_DOUBLE_EQ(h[2].hi, 1);
 }
 
-v1::StudySpec CalibrationSpec() {
-  v1::StudySpec c;
-  c.mutable_objective()->set_name("caterpillar.calibration");
-  for (const auto& [name, lo, hi] : std::vector<std::tuple<std::string, double, double>>{
-           {"actuators.force_n", 7.0, 11.0}, {"scale.link_stiffness", 0.7, 1.4}}) {
-    auto* b = c.add_bounds();
-    b->set_name(name);
-    b->set_lo(lo);
-    b->set_hi(hi);
-  }
-  return c;
-}
-
 // The whole path through a real database: a completed calibration with two generations of
 // evaluations; the gait study's ensemble spans the evaluations as good as the best, far
 // wider than the search's final spread.
 TEST(FromCalibration, TheEnsembleSpansWhatTheRecordingsLeaveOpen) {
   testing::TempDir dir;
-  auto store = storage::OpenSqliteStore(dir.File("s.db"));
-  ASSERT_TRUE(store.ok()) << store.status();
-  storage::StudyRecord cal;
-  cal.study_id = "cal-1";
-  cal.name = "cal";
-  cal.spec = CalibrationSpec().SerializeAsString();
-  cal.state = "running";
-  ASSERT_TRUE((*store)->CreateStudy(cal).get().ok());
+  auto store = StoreWithCalibration(dir, "cal-1", "running");
+  ASSERT_NE(store, nullptr);
   const std::vector<std::vector<storage::IndividualRecord>> generations = {
-      {Evaluation(0, 0, {8.0, 0.8}, {1.2, 0.7, 0.9}), Evaluation(0, 1, {10.5, 1.3}, {3, 3, 3})},
-      {Evaluation(1, 0, {9.5, 1.0}, {0.8, 0.8, 0.8}), Evaluation(1, 1, {9.6, 1.05}, {0.9, 0.8, 0.9})}};
+      {Evaluation(0, 0, {8.0, 0.8, 0.0}, {1.2, 0.7, 0.9}), Evaluation(0, 1, {10.5, 1.3, 0.04}, {3, 3, 3})},
+      {Evaluation(1, 0, {9.5, 1.0, 0.01}, {0.8, 0.8, 0.8}), Evaluation(1, 1, {9.6, 1.05, -0.03}, {0.9, 0.8, 0.9})}};
   for (int g = 0; g < 2; ++g) {
-    ASSERT_TRUE((*store)->AppendResults(generations[g]).get().ok());
+    ASSERT_TRUE(store->AppendResults(generations[g]).get().ok());
     storage::GenerationRecord gen;
     gen.study_id = "cal-1";
     gen.generation = g;
@@ -132,19 +112,19 @@ TEST(FromCalibration, TheEnsembleSpansWhatTheRecordingsLeaveOpen) {
     storage::HofRecord hof;
     hof.origin_generation = g == 0 ? 0 : 1;
     hof.origin_member = 0;
-    hof.genes = g == 0 ? std::vector<double>{8.0, 0.8} : std::vector<double>{9.5, 1.0};
+    hof.genes = g == 0 ? std::vector<double>{8.0, 0.8, 0.0} : std::vector<double>{9.5, 1.0, 0.01};
     hof.valid = true;
     hof.fitness = -0.8;
     gen.hall_of_fame = {hof};
     gen.study_state = g == 1 ? "completed" : "running";
-    ASSERT_TRUE((*store)->CommitGeneration(gen).get().ok());
+    ASSERT_TRUE(store->CommitGeneration(gen).get().ok());
   }
-  ASSERT_TRUE((*store)->SetStudyState("cal-1", "completed", "").get().ok());
-  const SpreadFn spread = [](const std::string&, int) { return std::vector<double>{0.01, 0.01}; };
+  ASSERT_TRUE(store->SetStudyState("cal-1", "completed", "").get().ok());
+  const SpreadFn spread = [](const std::string&, int) { return std::vector<double>{0.01, 0.01, 0.001}; };
   v1::StudySpec g;
   g.mutable_objective()->set_from_calibration("cal-1");
   g.mutable_objective()->mutable_robust();
-  ASSERT_TRUE(ResolveFromCalibration(**store, spread, &g).ok());
+  ASSERT_TRUE(ResolveFromCalibration(*store, spread, &g).ok());
   const auto& p = g.objective().robust().parameters();
   ASSERT_EQ(p.size(), 2);
   EXPECT_EQ(g.objective().options().at("set"), "actuators.force_n=9.5,scale.link_stiffness=1");
