@@ -44,13 +44,18 @@ std::vector<std::string> NumericVariants(const v1::DiagnosisSpec& d) {
   return out;
 }
 
-int FinestStepVariant(const std::vector<std::string>& variants) {
+// The timestep (s) a numeric variant sets, NAN for one that sets none.
+static double VariantStepS(const std::string& variant) {
   const std::string prefix = std::string(kTimestepParam) + "=";
+  if (variant.rfind(prefix, 0) != 0) return NAN;
+  return std::strtod(variant.c_str() + prefix.size(), nullptr);
+}
+
+int FinestStepVariant(const std::vector<std::string>& variants) {
   int finest = -1;
   double least = 0;
   for (int i = 0; i < static_cast<int>(variants.size()); ++i) {
-    if (variants[i].rfind(prefix, 0) != 0) continue;
-    const double h = std::strtod(variants[i].c_str() + prefix.size(), nullptr);
+    const double h = VariantStepS(variants[i]);
     if (h > 0 && (finest < 0 || h < least)) finest = i, least = h;
   }
   return finest;
@@ -314,11 +319,10 @@ double FinerStepMs(const std::vector<std::string>& variants,
   if (variants.size() != training_errors.size() || variants.empty() ||
       !(training_errors[0] > 0))
     return -1;
-  const std::string prefix = std::string(kTimestepParam) + "=";
   double best_ms = -1, best_error = kUnconvergedShare * training_errors[0];
   for (size_t i = 1; i < variants.size(); ++i) {
-    if (variants[i].rfind(prefix, 0) != 0) continue;
-    const double ms = 1e3 * std::stod(variants[i].substr(prefix.size()));
+    const double ms = 1e3 * VariantStepS(variants[i]);
+    if (!std::isfinite(ms)) continue;
     if (ms < own_step_ms && training_errors[i] < best_error) {
       best_ms = ms;
       best_error = training_errors[i];
