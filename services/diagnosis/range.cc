@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "absl/strings/str_format.h"
@@ -234,6 +235,10 @@ RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effe
   auto end = [](double v, bool open, double bound) {
     return absl::StrFormat("%.3g%s", open ? bound : v, open ? " (open)" : "");
   };
+  // Per effect: the words for each of its genes whose range holds the nominal, and whether
+  // one of its genes' ranges does not (then the model without the effect is refused).
+  std::vector<std::string> order;
+  std::map<std::string, std::pair<std::vector<std::string>, bool>> held;
   for (size_t i = first_effect_gene; i < c.genes.size() && i < r.params.size(); ++i) {
     const auto& g = c.genes[i];
     if (g.name().rfind("nuisance.", 0) == 0) continue;
@@ -244,12 +249,22 @@ RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effe
     // An effect's gene starts at its nominal value (the effect absent: Make).
     if (i >= c.gene_effect.size() || c.gene_effect[i].empty() || i >= c.mean0.size()) continue;
     const std::string& id = c.gene_effect[i];
+    if (!held.count(id)) order.push_back(id);
+    auto& [words, refused] = held[id];
     const double nominal = c.mean0[i];
-    if (!RangeHolds(p, nominal, g.lo(), g.hi())) continue;
-    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
-    unneeded.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
-                                         end(p.lo, p.open_lo, g.lo()),
-                                         end(p.hi, p.open_hi, g.hi()), nominal));
+    if (!RangeHolds(p, nominal, g.lo(), g.hi())) {
+      refused = true;
+      continue;
+    }
+    words.push_back(absl::StrFormat("%s's range %s .. %s holds %g", g.name(),
+                                    end(p.lo, p.open_lo, g.lo()), end(p.hi, p.open_hi, g.hi()),
+                                    nominal));
+  }
+  for (const std::string& id : order) {
+    const auto& [words, refused] = held[id];
+    if (refused) continue;
+    ids.push_back(id);
+    unneeded.insert(unneeded.end(), words.begin(), words.end());
   }
   return {absl::StrJoin(loose, ", "), absl::StrJoin(unneeded, "; "), ids};
 }

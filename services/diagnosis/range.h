@@ -38,8 +38,11 @@ bool RangeHolds(const ParamRange& r, double x, double lo, double hi);
 
 // What a fitted explanation's ranges say of it, in words for the report ("" when nothing):
 // `loose`, its effect parameters that are not pinned (RangeShare at kUndeterminedShare or
-// more); `unneeded`, those whose range holds the value that leaves the model as it is (the
-// effect absent, effects::EffectInfo::Param::nominal), so that the data do not require it.
+// more); `unneeded`, the parameters of each effect the data do not require: every one of the
+// effect's parameters has a range that holds the value that leaves the model as it is
+// (effects::EffectInfo::Param::nominal), so the model without the effect fits as well. An
+// effect with one parameter refused at its nominal (a friction with its forward coefficient
+// pinned away from the model's) is required, whatever its other parameters' ranges hold.
 // Genes before `first_effect_gene` (the base parameters) and nuisances are not judged.
 struct RangeVerdict {
   std::string loose, unneeded;

@@ -233,5 +233,38 @@ TEST(JudgeRange, SaysWhichEffectTheDataDoNotRequireOrPin) {
   EXPECT_EQ(JudgeRange(PairWithForce(), r, 2).unneeded, "");
 }
 
+Candidate AnisotropicFriction() {
+  Candidate c;
+  c.effects = {"friction.anisotropic"};
+  for (const char* name : {"effect.friction_forward", "effect.friction_backward"}) {
+    v1::GeneBound g;
+    g.set_name(name);
+    g.set_lo(0);
+    g.set_hi(3);
+    c.genes.push_back(g);
+    c.mean0.push_back(0.6);  // the walker's own coefficient: the effect absent
+    c.gene_effect.push_back("friction.anisotropic");
+  }
+  return c;
+}
+
+TEST(JudgeRange, AnEffectIsUnneededOnlyWhenAllItsParametersHoldTheirNominal) {
+  // The walker's anisotropic-3 (session 39): the forward coefficient pinned to 0.32 .. 0.42,
+  // away from the model's 0.6, so the model without the effect is refused, though the
+  // backward one's range, 0.446 .. 1.04, holds 0.6.
+  FitRange r;
+  r.params = {{0.323, 0.423, false, false}, {0.446, 1.04, false, false}};
+  RangeVerdict v = JudgeRange(AnisotropicFriction(), r, 0);
+  EXPECT_EQ(v.unneeded, "");
+  EXPECT_TRUE(v.unneeded_effects.empty());
+  // Both ranges hold 0.6: the data do not require the effect, and both are said.
+  r.params[0] = {0.55, 0.7, false, false};
+  v = JudgeRange(AnisotropicFriction(), r, 0);
+  EXPECT_EQ(v.unneeded_effects, std::vector<std::string>({"friction.anisotropic"}));
+  EXPECT_EQ(v.unneeded,
+            "effect.friction_forward's range 0.55 .. 0.7 holds 0.6; "
+            "effect.friction_backward's range 0.446 .. 1.04 holds 0.6");
+}
+
 }  // namespace
 }  // namespace gaitforge::diagnosis
