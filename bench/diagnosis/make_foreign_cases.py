@@ -83,6 +83,24 @@ MUJOCO_CASES = [
      {"actuators.force_n": 0.75 * 8.8}, 306),
     ("mujoco-slope", {"slope_rad": 0.08}, "ground.slope", ["ground.slope"],
      {"effect.slope_rad": 0.08}, 307),
+    # Session 40, sealed from tuning (issue 25: three nulls, two magnitudes per effect): two
+    # nulls of another build of the same robot (a slipperier floor; a softer contact), and
+    # each effect at about twice the first magnitude, chosen before any run on them.
+    ("mujoco-null-slippery", {"ground_mu": 0.8}, "none", [], {}, 308),
+    ("mujoco-null-soft", {"contact_time_s": 0.005}, "none", [], {}, 309),
+    ("mujoco-hose-strong", {"hose_n": 0.8}, "tether.constant",
+     ["tether.constant", "tether.growing"], {"effect.tether_force_n": 0.8}, 310),
+    ("mujoco-hose-growing-strong", {"hose_n": 0.2, "hose_n_per_m": 8.0}, "tether.growing",
+     ["tether.growing", "tether.constant"],
+     {"effect.tether_force_n": 0.2, "effect.tether_stiffness_n_per_m": 8.0}, 311),
+    ("mujoco-drag-strong", {"drag_n_s_per_m": 3.0}, "friction.viscous", ["friction.viscous"],
+     {"effect.drag_n_s_per_m": 3.0}, 312),
+    ("mujoco-lag-strong", {"actuator_lag_s": 0.12}, "actuator.lag",
+     ["actuator.lag", "actuator.delay"], {"effect.actuator_lag_s": 0.12}, 313),
+    ("mujoco-weak-strong", {"force_scale": 0.5}, "actuator.force_scale",
+     ["actuator.force_scale"], {"actuators.force_n": 0.5 * 8.8}, 314),
+    ("mujoco-slope-strong", {"slope_rad": 0.16}, "ground.slope", ["ground.slope"],
+     {"effect.slope_rad": 0.16}, 315),
 ]
 BUILDS = {"rig2d": (CASES, "foreign", "bench/diagnosis/rig2d.py"),
           "mujoco": (MUJOCO_CASES, "foreign-mujoco", "bench/independent/caterpillar_mujoco.cc")}

@@ -17,13 +17,15 @@
 //   - integration: MuJoCo's Euler (implicit in joint damping) at 0.25 ms.
 // Effects in forms of its own: a hose pulling the rear lump straight back, growing with
 // travel; linear drag on every lump; a first-order lag on the pistons' force; a slope; a
-// weaker air supply (the pistons' force times force_scale).
+// weaker air supply (the pistons' force times force_scale). And its structure varied, for nulls
+// of another build: ground_mu (default 2) and contact_time_s (MuJoCo's solref time constant,
+// default 0.002 s).
 //
 //   gaitforge-bench-caterpillar-mujoco [--settle N] [--cycles N] [--record FILE --rate HZ]
 //
 // Reads one run per line on stdin: the 13 genes of the paper's gait (a_T1..a_B3, d_T1..d_B3,
 // T), then any of hose_n=, hose_n_per_m=, drag_n_s_per_m=, actuator_lag_s=, slope_rad=,
-// force_scale=. Prints one line per run: the forward travel per cycle (m) of the markers'
+// force_scale=, ground_mu=, contact_time_s=. Prints one line per run: the forward travel per cycle (m) of the markers'
 // mean x over --cycles periods after --settle, or "nan REASON" for a run that diverged. --record writes the
 // first run's markers (docs/recording-format.md) from the end of the settle cycles.
 #include <mujoco/mujoco.h>
@@ -49,7 +51,7 @@ constexpr double kFlexureK = 1040, kFlexureKb = 0.12, kSegmentK = 446, kSegmentK
 constexpr double kForce = 8.8, kReturnK = 63, kMinLength = 0.051, kMaxLength = 0.062;
 constexpr double kAttachX = 0.0095, kTopZ = 0.0125, kBottomZ = -0.0080;
 // This build's own choices.
-constexpr double kShearFactor = 20, kMu = 2.0, kStep = 0.00025;
+constexpr double kShearFactor = 20, kMu = 2.0, kContactTime = 0.002, kStep = 0.00025;
 
 double Critical(double k, double m) { return 2 * std::sqrt(k * m); }
 
@@ -90,12 +92,15 @@ std::string LumpBody(int i) {
   return s.str();
 }
 
-std::string Mjcf(double slope_rad) {
+// The build's own structure, which a run may vary (a null of another build): the ground's
+// friction and the contact's time constant.
+std::string Mjcf(double slope_rad, double mu, double contact_time_s) {
   std::ostringstream s;
   s << "<mujoco model=\"caterpillar-independent\">\n<option timestep=\"" << kStep
     << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"" << Num(-9.81 * std::sin(slope_rad)) << " 0 "
     << Num(-9.81 * std::cos(slope_rad)) << "\"/>\n"
-    << "<default><geom friction=\"" << kMu << " 0.005 0.0001\" solref=\"0.002 1\" condim=\"3\"/>"
+    << "<default><geom friction=\"" << Num(mu) << " 0.005 0.0001\" solref=\"" << Num(contact_time_s)
+    << " 1\" condim=\"3\"/>"
     << "<tendon solreflimit=\"0.002 1\"/></default>\n<worldbody>\n"
     << "<geom type=\"plane\" size=\"5 1 0.1\"/>\n<body name=\"l1\" pos=\"0 0 " << kHalfZ << "\">\n"
     << "<joint name=\"root_x\" type=\"slide\" axis=\"1 0 0\"/><joint name=\"root_z\" type=\"slide\" "
@@ -197,7 +202,8 @@ void Sample(const mjModel* m, const mjData* d, std::ostream* record, double& tim
 
 // Travel per cycle of one run; writes its markers to `record` at `rate` Hz when given.
 std::string Simulate(const Run& run, int settle, int cycles, std::ostream* record, double rate) {
-  mjModel* m = Load(Mjcf(run.effect("slope_rad")));
+  mjModel* m = Load(Mjcf(run.effect("slope_rad"), run.effect("ground_mu", kMu),
+                         run.effect("contact_time_s", kContactTime)));
   mjData* d = mj_makeData(m);
   std::vector<double> lagged(6, 0.0);
   const double period = run.genes[12], start = settle * period, end = (settle + cycles) * period;
@@ -237,12 +243,18 @@ Run Parse(const std::string& line, int number) {
       run.effects[token.substr(0, eq)] = std::stod(token.substr(eq + 1));
     }
   }
-  static const char* known[] = {"hose_n", "hose_n_per_m", "drag_n_s_per_m", "actuator_lag_s", "slope_rad",
-                                "force_scale"};
+  static const char* known[] = {"hose_n",    "hose_n_per_m", "drag_n_s_per_m", "actuator_lag_s",
+                                "slope_rad", "force_scale",  "ground_mu",      "contact_time_s"};
   for (const auto& [name, value] : run.effects)
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) == std::end(known))
       throw std::invalid_argument("stdin:" + std::to_string(number) + ": unknown effect '" + name +
-                                  "' (known: hose_n, hose_n_per_m, drag_n_s_per_m, actuator_lag_s, slope_rad, force_scale)");
+                                  "' (known: hose_n, hose_n_per_m, drag_n_s_per_m, actuator_lag_s, slope_rad, "
+                                  "force_scale, ground_mu, contact_time_s)");
+  if (!(run.effect("ground_mu", kMu) > 0 && run.effect("ground_mu", kMu) <= 10))
+    throw std::invalid_argument("stdin:" + std::to_string(number) + ": ground_mu must be in (0, 10]");
+  if (!(run.effect("contact_time_s", kContactTime) >= 2 * kStep && run.effect("contact_time_s", kContactTime) <= 0.05))
+    throw std::invalid_argument("stdin:" + std::to_string(number) +
+                                ": contact_time_s must be in [0.0005, 0.05] (at least two steps)");
   if (run.genes.size() != 13 || !(run.genes[12] >= 0.2 && run.genes[12] <= 2.0))
     throw std::invalid_argument("stdin:" + std::to_string(number) +
                                 ": a run is 13 genes (period T in [0.2, 2] s last), then effects");
