@@ -15,7 +15,9 @@ contact, tendon pistons), with nothing concealed and with concealed hoses.
 and CALIBRATION_GAITS random ones recorded on each build, a calibration of what the model
 idealises (STRUCTURE: friction and contact, stiffness and damping, force, lump compliance)
 on all but one of them, and a robust study started from it (`objective.from_calibration`),
-measured on that build.
+measured on that build. --rounds R repeats it R times, as a user with the robot would:
+each round records the last study's --record-best best distinct gaits on the build and adds
+them to the calibration's recordings, so the next calibration sees what the GA exploited.
 
 --diagnose closes the loop on each build: three gaits recorded on the build with the strong
 hose concealed (make_cases.GAITS: two for training, one held out), `gaitforge diagnose` on
@@ -256,41 +258,61 @@ def record_gaits(build, folder, effects):
     return paths
 
 
-def calibrate_and_evolve(args, build):
-    """Calibrates the model's structure on recordings of `build` (nothing concealed), then
-    evolves robustly from that calibration. Returns (db, wall seconds, the fit)."""
-    folder = os.path.join(args.out, f"calibration-{build}")
-    os.makedirs(folder, exist_ok=True)
-    db = os.path.join(args.out, f"calibrated-{build}.db")
-    if os.path.exists(db):
-        os.remove(db)
-    paths = record_gaits(build, folder, {})
+def calibrate(args, build, folder, db, name, training, held_out):
+    """CMA-ES over STRUCTURE on `training` recordings of `build`; returns (study id, fit)."""
     bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in STRUCTURE)
-    path = os.path.join(folder, "calibration.yaml")
+    path = os.path.join(folder, f"{name}.yaml")
     with open(path, "w") as f:
-        f.write(f"name: structure-{build}\nseed: 1\nengine: cmaes\npopulation: 10\n"
+        f.write(f"name: {name}\nseed: 1\nengine: cmaes\npopulation: 10\n"
                 f"generations: 200\nobjective:\n  name: caterpillar.calibration\n"
                 f"  options: {{error: shape, metric: rmse}}\n"
-                f"  recordings: [{', '.join(paths[:-1])}]\n  held_out: [{paths[-1]}]\n"
+                f"  recordings: [{', '.join(training)}]\n  held_out: [{held_out}]\n"
                 f"bounds:\n{bounds}cmaes: {{sigma0: 0.25, restarts: none, "
                 f"max_evaluations: {args.calibration_evaluations}}}\n")
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
-    t0 = time.monotonic()
     r = subprocess.run(gf + ["--out", folder, "local", path, "--workers", "2", "--dashboard", "off"],
                        capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"transfer: calibration on {build} failed ({r.returncode}): {r.stderr[-2000:]}")
-    ident = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
-                                      check=True).stdout)["studies"][0]["study_id"]
+    studies = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
+                                        check=True).stdout)["studies"]
+    ident = next(s["study_id"] for s in studies if s["spec"]["name"] == name)
     hof = json.loads(subprocess.run(gf + ["hof", ident, "--json"], capture_output=True, text=True,
                                     check=True).stdout)
     genes = hof["entries"][0]["individual"]["genes"]
-    fit = {n: g for (n, *_), g in zip(STRUCTURE, genes)}
-    print(f"calibration on {build}: {fit} ({time.monotonic() - t0:.0f} s)", flush=True)
-    db, _ = evolve(args, f"calibrated-{build}", args.generations, True, db=db, calibration=ident)
-    ensemble = ensemble_of(db, f"calibrated-{build}")
-    print(f"ensemble from the calibration on {build}: {ensemble}", flush=True)
-    return db, time.monotonic() - t0, {"fit": fit, "ensemble": ensemble}
+    return ident, {n: g for (n, *_), g in zip(STRUCTURE, genes)}
+
+
+def calibrate_and_evolve(args, build):
+    """Calibrates the model's structure on recordings of `build` (nothing concealed), then
+    evolves robustly from that calibration; with --rounds R, R times, each round adding the
+    --record-best best distinct gaits of the last study, recorded on the build, to the
+    calibration's training recordings. Yields (study name, db, wall seconds, the fit) per
+    round."""
+    folder = os.path.join(args.out, f"calibration-{build}")
+    os.makedirs(folder, exist_ok=True)
+    paths = record_gaits(build, folder, {})
+    training, held_out = paths[:-1], paths[-1]
+    for rnd in range(args.rounds):
+        study = f"calibrated-{build}" + (f"-r{rnd + 1}" if rnd else "")
+        db = os.path.join(args.out, f"{study}.db")
+        if os.path.exists(db):
+            os.remove(db)
+        t0 = time.monotonic()
+        ident, fit = calibrate(args, build, folder, db, f"structure-{study}", training, held_out)
+        print(f"calibration {study} on {len(training)} recordings: {fit} "
+              f"({time.monotonic() - t0:.0f} s)", flush=True)
+        db, _ = evolve(args, study, args.generations, True, db=db, calibration=ident)
+        ensemble = ensemble_of(db, study)
+        print(f"ensemble of {study}: {ensemble}", flush=True)
+        yield study, db, time.monotonic() - t0, {"fit": fit, "ensemble": ensemble,
+                                                 "recordings": len(training)}
+        if rnd + 1 == args.rounds:
+            break
+        best = gait_sets(db, True, args.record_best, study)["best"]
+        for i, (_, genes) in enumerate(best):
+            training.append(os.path.join(folder, f"{study}-best{i}.csv"))
+            record_one(build, training[-1], genes, {})
 
 
 def ensemble_of(db, study):
@@ -317,10 +339,10 @@ def table(sets, where, achieved, walls):
                              "ratio": ach[ok].sum() / pred[ok].sum(), "spearman": rho,
                              "best_gait_cm": 100 * ach[0] if kind == "best" else float("nan"),
                              "wall_s": walls[study]})
-    print(f"{'study':<18}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
+    print(f"{'study':<22}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
           f"{'ratio':>7}{'rho':>7}{'best cm':>9}{'wall s':>8}")
     for r in rows:
-        print(f"{r['study']:<18}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
+        print(f"{r['study']:<22}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
               f"{r['predicted_cm']:>9.2f}{r['achieved_cm']:>9.2f}{r['ratio']:>7.2f}"
               f"{r['spearman']:>7.2f}{r['best_gait_cm']:>9.2f}{r['wall_s']:>8.0f}")
     return rows
@@ -342,6 +364,12 @@ def main():
                          "and evolve robustly from that calibration")
     ap.add_argument("--calibration-evaluations", type=int, default=800,
                     help="--calibrate: CMA-ES evaluations of the calibration")
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="--calibrate: calibrate and evolve this many times, each round "
+                         "recording the last study's --record-best best gaits on the build "
+                         "and adding them to the calibration")
+    ap.add_argument("--record-best", type=int, default=5,
+                    help="--rounds: gaits recorded per round")
     ap.add_argument("--structural", action="store_true",
                     help="also a robust study whose ensemble samples the model's idealisations "
                          "(STRUCTURAL)")
@@ -356,6 +384,8 @@ def main():
     if args.quick:
         args.population, args.generations, args.gaits, args.cycles = 12, 3, 3, 2
         args.screening, args.full, args.calibration_evaluations = 24, 48, 40
+    if args.rounds < 1 or args.record_best < 1:
+        sys.exit(f"--rounds and --record-best: at least 1 (got {args.rounds}, {args.record_best})")
     builds = args.builds.split(",")
     unknown = sorted(set(builds) - set(BUILDS))
     if unknown:
@@ -386,10 +416,9 @@ def main():
             sets[study], where[study], walls[study] = gait_sets(db, True, args.gaits, study), [(build, STRONG_HOSE)], wall
     fits = {}
     for build in BUILDS if args.calibrate else ():
-        db, wall, fits[build] = calibrate_and_evolve(args, build)
-        study = f"calibrated-{build}"
-        sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
-                                                   [(build, "nothing concealed")], wall)
+        for study, db, wall, fits[study] in calibrate_and_evolve(args, build):
+            sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
+                                                       [(build, "nothing concealed")], wall)
     achieved = measure(sets, where, args.cycles)
     rows = table(sets, where, achieved, walls)
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
