@@ -89,9 +89,16 @@ std::string Effect(const RunState& s, const Candidate& c) {
     names.push_back(e.name);
     meanings.push_back(e.meaning);
   }
+  // The parts that correct the model's own idealisations (effects::IsStructural) rather
+  // than name physics it left out.
+  std::vector<std::string> structural;
+  for (const std::string& id : c.effects)
+    if (effects::IsStructural(id)) structural.push_back(id);
   std::string j = absl::StrCat("{\"id\": ", JsonQuote(c.label), ", \"name\": ",
                                JsonQuote(absl::StrJoin(names, " + ")), ", \"meaning\": ",
-                               JsonQuote(absl::StrJoin(meanings, " ")), ", \"params\": ", Params(s, c));
+                               JsonQuote(absl::StrJoin(meanings, " ")),
+                               ", \"structural\": ", StringList(structural),
+                               ", \"params\": ", Params(s, c));
   if (const auto range = s.ranges.find(&c); range != s.ranges.end())
     absl::StrAppend(&j, ", \"range_tolerance\": ", Num(range->second.tolerance),
                     ", \"range_evaluations\": ", range->second.evaluations,

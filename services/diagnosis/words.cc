@@ -12,6 +12,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 #include "services/diagnosis/locate.h"
@@ -96,6 +97,14 @@ std::string Named(const Struct& e, const Unit& u) {
   return out;
 }
 
+// Whether every part of a named explanation is structural (the report's `structural` lists
+// them; absent in reports from before session 40).
+bool AllStructural(const Struct& e) {
+  if (Field(e, "structural").kind_case() != Value::kListValue) return false;
+  const std::vector<std::string> parts = absl::StrSplit(S(e, "id"), '+');
+  return Field(e, "structural").list_value().values_size() == static_cast<int>(parts.size());
+}
+
 std::string Verdict(const Struct& r) {
   const Unit u = UnitOf(r);
   const Struct& err = O(r, "errors");
@@ -151,6 +160,11 @@ std::string Verdict(const Struct& r) {
                   absl::StrJoin(labels, " and "), "\n");
   for (const auto& e : effects) absl::StrAppend(&out, Named(e.struct_value(), u));
   const Struct& first = effects.empty() ? err : effects[0].struct_value();
+  if (AllStructural(first))
+    absl::StrAppend(&out, "  ", S(first, "id"),
+                    " corrects the model's own idealisations (its structure), not physics it "
+                    "left out: this robot differs from the model there, and nothing was found "
+                    "on top of it\n");
   absl::StrAppend(&out, absl::StrFormat(
                             "  held-out error %.4g -> %.4g %s, training %.4g -> %.4g %s, delta "
                             "BIC %.1f\n",

@@ -158,6 +158,29 @@ TEST(ReportWords, AStructureInTheBaselineIsSaidBeforeTheEffectOnTopOfIt) {
   EXPECT_EQ(without->find("structure"), std::string::npos) << *without;
 }
 
+// A named explanation that only corrects the model's idealisations (every part in the
+// report's `structural`) is said to be structure, not left-out physics; a tether is not.
+TEST(ReportWords, AFoundStructureIsSaidToBeTheModelsIdealisationNotMissingPhysics) {
+  std::string report = kFound;
+  report.replace(report.find("\"tether.constant\""), 17,
+                 R"("friction.anisotropic", "structural": ["friction.anisotropic"])");
+  auto w = ReportWords(report);
+  ASSERT_TRUE(w.ok()) << w.status();
+  EXPECT_NE(w->find("friction.anisotropic corrects the model's own idealisations (its "
+                    "structure), not physics it left out"),
+            std::string::npos)
+      << *w;
+  // A pair with a part that is not structural, and a report without the list, say nothing.
+  std::string pair = kFound;
+  pair.replace(pair.find("\"tether.constant\""), 17,
+               R"("friction.anisotropic+tether.constant", "structural": ["friction.anisotropic"])");
+  for (const std::string& r : {pair, std::string(kFound)}) {
+    auto v = ReportWords(r);
+    ASSERT_TRUE(v.ok()) << v.status();
+    EXPECT_EQ(v->find("idealisations"), std::string::npos) << *v;
+  }
+}
+
 // Numerics first: the step the diagnosis moved to is said before the verdict, with the
 // uncalibrated model's errors at both steps.
 TEST(ReportWords, AMoveToAFinerStepIsSaidBeforeTheVerdict) {
