@@ -258,6 +258,14 @@ def record_gaits(build, folder, effects):
     return paths
 
 
+def completed(db, name):
+    """Whether `db` holds a completed study named `name` (--reuse)."""
+    if not os.path.exists(db):
+        return False
+    row = sqlite3.connect(db).execute("SELECT state FROM studies WHERE name = ?", (name,)).fetchone()
+    return bool(row) and row[0] == "completed"
+
+
 def calibrate(args, build, folder, db, name, training, held_out):
     """CMA-ES over STRUCTURE on `training` recordings of `build`; returns (study id, fit)."""
     bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in STRUCTURE)
@@ -270,10 +278,11 @@ def calibrate(args, build, folder, db, name, training, held_out):
                 f"bounds:\n{bounds}cmaes: {{sigma0: 0.25, restarts: none, "
                 f"max_evaluations: {args.calibration_evaluations}}}\n")
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
-    r = subprocess.run(gf + ["--out", folder, "local", path, "--workers", "2", "--dashboard", "off"],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"transfer: calibration on {build} failed ({r.returncode}): {r.stderr[-2000:]}")
+    if not (args.reuse and completed(db, name)):
+        r = subprocess.run(gf + ["--out", folder, "local", path, "--workers", "2", "--dashboard",
+                                 "off"], capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"transfer: calibration on {build} failed ({r.returncode}): {r.stderr[-2000:]}")
     studies = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
                                         check=True).stdout)["studies"]
     ident = next(s["study_id"] for s in studies if s["spec"]["name"] == name)
@@ -296,13 +305,15 @@ def calibrate_and_evolve(args, build):
     for rnd in range(args.rounds):
         study = f"calibrated-{build}" + (f"-r{rnd + 1}" if rnd else "")
         db = os.path.join(args.out, f"{study}.db")
-        if os.path.exists(db):
+        reused = args.reuse and completed(db, study)
+        if os.path.exists(db) and not reused:
             os.remove(db)
         t0 = time.monotonic()
         ident, fit = calibrate(args, build, folder, db, f"structure-{study}", training, held_out)
         print(f"calibration {study} on {len(training)} recordings: {fit} "
-              f"({time.monotonic() - t0:.0f} s)", flush=True)
-        db, _ = evolve(args, study, args.generations, True, db=db, calibration=ident)
+              f"({time.monotonic() - t0:.0f} s{', reused' if reused else ''})", flush=True)
+        if not reused:
+            evolve(args, study, args.generations, True, db=db, calibration=ident)
         ensemble = ensemble_of(db, study)
         print(f"ensemble of {study}: {ensemble}", flush=True)
         yield study, db, time.monotonic() - t0, {"fit": fit, "ensemble": ensemble,
@@ -370,6 +381,9 @@ def main():
                          "and adding them to the calibration")
     ap.add_argument("--record-best", type=int, default=5,
                     help="--rounds: gaits recorded per round")
+    ap.add_argument("--reuse", action="store_true",
+                    help="--calibrate: keep a round whose calibration and study completed in "
+                         "--out's database (a benchmark interrupted, or run with fewer rounds)")
     ap.add_argument("--structural", action="store_true",
                     help="also a robust study whose ensemble samples the model's idealisations "
                          "(STRUCTURAL)")
