@@ -243,21 +243,22 @@ Run Parse(const std::string& line, int number) {
       run.effects[token.substr(0, eq)] = std::stod(token.substr(eq + 1));
     }
   }
-  static const char* known[] = {"hose_n",    "hose_n_per_m", "drag_n_s_per_m", "actuator_lag_s",
-                                "slope_rad", "force_scale",  "ground_mu",      "contact_time_s"};
+  static const std::vector<std::string> known = {"hose_n",    "hose_n_per_m", "drag_n_s_per_m",
+                                                 "actuator_lag_s", "slope_rad", "force_scale",
+                                                 "ground_mu", "contact_time_s"};
+  const std::string where = "stdin:" + std::to_string(number) + ": ";
   for (const auto& [name, value] : run.effects)
-    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) == std::end(known))
-      throw std::invalid_argument("stdin:" + std::to_string(number) + ": unknown effect '" + name +
-                                  "' (known: hose_n, hose_n_per_m, drag_n_s_per_m, actuator_lag_s, slope_rad, "
-                                  "force_scale, ground_mu, contact_time_s)");
-  if (!(run.effect("ground_mu", kMu) > 0 && run.effect("ground_mu", kMu) <= 10))
-    throw std::invalid_argument("stdin:" + std::to_string(number) + ": ground_mu must be in (0, 10]");
-  if (!(run.effect("contact_time_s", kContactTime) >= 2 * kStep && run.effect("contact_time_s", kContactTime) <= 0.05))
-    throw std::invalid_argument("stdin:" + std::to_string(number) +
-                                ": contact_time_s must be in [0.0005, 0.05] (at least two steps)");
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument(where + "unknown effect '" + name + "' (known: " + list + ")");
+    }
+  const double mu = run.effect("ground_mu", kMu), contact = run.effect("contact_time_s", kContactTime);
+  if (!(mu > 0 && mu <= 10)) throw std::invalid_argument(where + "ground_mu must be in (0, 10]");
+  if (!(contact >= 2 * kStep && contact <= 0.05))
+    throw std::invalid_argument(where + "contact_time_s must be in [0.0005, 0.05] (at least two steps)");
   if (run.genes.size() != 13 || !(run.genes[12] >= 0.2 && run.genes[12] <= 2.0))
-    throw std::invalid_argument("stdin:" + std::to_string(number) +
-                                ": a run is 13 genes (period T in [0.2, 2] s last), then effects");
+    throw std::invalid_argument(where + "a run is 13 genes (period T in [0.2, 2] s last), then effects");
   return run;
 }
 
