@@ -255,6 +255,24 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "amplitude falls and its phase lag shrinks faster with frequency than the constant "
        "model's.",
        "bending_joints"},
+      {"contact.creep",
+       "Creeping contact",
+       "Feet that creep under a sideways load instead of sticking: the sliding speed of a "
+       "touching foot grows in proportion to the friction force it carries, v = s F, up to "
+       "the Coulomb limit (ODE's force-dependent slip). Soft silicone feet shear and "
+       "regularised contact laws (MuJoCo's soft constraints, penalty contacts) do this; the "
+       "model's ground sticks. The range spans decades: search its logarithm; its lower "
+       "edge is the model's own sticking ground (no slip), so the range is not continuous "
+       "there.",
+       {{"effect.contact_slip_m_per_n_s", 1e-5, 1, 1e-5, "m/(N s)"}},
+       "Feet that should stand still drift slowly backwards during every stroke that pushes "
+       "against them, more under larger pushes and longer strokes; less travel for every "
+       "gait, the loss growing with the stroke's force and duration rather than with the "
+       "distance travelled; a resting robot on a slight slope creeps downhill.",
+       "Push a resting robot sideways with a force gauge below the force that makes it "
+       "slide and film a foot: a creeping contact moves at a speed proportional to the "
+       "force, a Coulomb contact holds until it breaks away.",
+       "ground"},
   };
   return catalog;
 }
@@ -262,7 +280,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
 bool IsStructural(std::string_view id) {
   static const std::set<std::string_view> structural = {
       "friction.anisotropic", "contact.softness", "model.resolution",
-      "damping.scale",        "stiffness.scale",  "mass.offset"};
+      "damping.scale",        "stiffness.scale",  "mass.offset",
+      "contact.creep"};
   return structural.count(id) > 0;
 }
 

@@ -22,7 +22,7 @@ TEST(EffectCatalog, HasTheStableIdsInOrder) {
                      "actuator.force_scale", "actuator.deadband", "servo.deadband",
                      "contact.softness", "mass.offset", "stiffness.scale", "spring.softening",
                      "model.resolution", "damping.scale", "joint.softening",
-                     "joint.damping_growth", "joint.stiffening"}));
+                     "joint.damping_growth", "joint.stiffening", "contact.creep"}));
   for (const auto& e : EffectCatalog()) {
     EXPECT_EQ(FindEffect(e.id), &e);
     EXPECT_FALSE(e.name.empty() || e.meaning.empty() || e.where.empty() || e.experiment.empty())

@@ -164,6 +164,25 @@ TEST(CaterpillarEffects, PassiveRobotSlidesDownASteepSlopeAtTheCoulombRate) {
   }
 }
 
+// A creeping contact: on a gentle slope the no-slip robot holds; with force-dependent slip
+// every lump carries m g sin s on its friction row and creeps downhill at s_slip m g sin s.
+TEST(CaterpillarEffects, ACreepingContactSlidesAtSlipTimesItsForce) {
+  const double g = 9.81, slope = 0.1, slip = 0.02;
+  auto creep = [&](const std::vector<std::pair<std::string, double>>& set) {
+    Rig rig = MakeRig(Cut{}, set);
+    Simulate(rig, 0.2, 0);
+    const double x0 = MeanX(rig);
+    Simulate(rig, 0.1, 0);
+    return (MeanX(rig) - x0) / 0.1;
+  };
+  EXPECT_NEAR(creep({{"effect.slope_rad", slope}}), 0, 1e-6);
+  Rig rig = MakeRig();
+  const double expected = -slip * rig("lumps.mass_kg") * g * std::sin(slope);
+  EXPECT_NEAR(creep({{"effect.slope_rad", slope}, {"effect.contact_slip_m_per_n_s", slip}}),
+              expected, 0.03 * std::fabs(expected));
+  EXPECT_LT(MeanTravel(With("effect.contact_slip_m_per_n_s", 0.05)), 0.8 * FreeTravel());
+}
+
 TEST(CaterpillarEffects, DragReducesSpeed) {
   EXPECT_LT(MeanTravel(With("effect.drag_n_s_per_m", 1.0)), 0.7 * FreeTravel());
   // Mechanism: a free chain coasting at 0.1 m/s loses speed as v (1 - c h / m)^n.
@@ -339,7 +358,8 @@ TEST(CaterpillarEffects, EveryEffectIsCalibratableAndOutOfRangeIsRefused) {
                {"effect.actuator_delay_s", -0.01},      {"effect.spring_softening", -1},
                {"effect.spring_softening", 2000},       {"effect.slope_rad", NAN},
                {"effect.actuator_deadband_n", -0.1},    {"effect.actuator_deadband_n", 21},
-               {"effect.lump_compliance_per_mpa", -1},  {"effect.lump_compliance_per_mpa", 101}};
+               {"effect.lump_compliance_per_mpa", -1},  {"effect.lump_compliance_per_mpa", 101},
+               {"effect.contact_slip_m_per_n_s", 0},    {"effect.contact_slip_m_per_n_s", 2}};
   for (const auto& c : cases) {
     ParamValues v(Caterpillar());
     const absl::Status s = v.Set(c.name, c.bad);

@@ -146,6 +146,10 @@ TEST(MujocoWorld, ALoopOrAnUnsupportedEffectIsRefusedWithTheReason) {
   ASSERT_TRUE(slip.Set("effect.friction_backward", 0.5).ok());
   EXPECT_THAT(std::string(MujocoWorld::Build(walker, slip, 0).status().message()),
               HasSubstr("no direction-dependent friction"));
+  generic::ParamValues creep(walker);
+  ASSERT_TRUE(creep.Set("effect.contact_slip_m_per_n_s", 0.01).ok());
+  EXPECT_THAT(std::string(MujocoWorld::Build(walker, creep, 0).status().message()),
+              HasSubstr("no creeping contact"));
 }
 
 // Paper 001's incline test on the MuJoCo build: the resting walker holds on a slope below

@@ -314,11 +314,14 @@ sim::SimOutcome GenericWorld::CheckPistons() const {
 // (effect friction_forward/backward, by the sign of the body's x velocity at the start of
 // the step; 0 keeps the ground's own) is finite and goes on every touching corner, each
 // row bounded by mu times its own corner's normal force (dContactApprox1), so the bound is
-// mu times the body's whole normal force.
+// mu times the body's whole normal force. A creeping contact (effect.contact_slip_m_per_n_s)
+// gives each friction row ODE's force-dependent slip.
 void GenericWorld::AddPlanarGroundContacts() {
   ground_contacts_ = 0;
   const bool anisotropic = fx_.friction_forward != 0 || fx_.friction_backward != 0;
-  const int base_mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM;
+  // effect.contact_slip_m_per_n_s: the friction row slides at slip times its force.
+  const int base_mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM |
+                        (fx_.contact_slip > 0 ? dContactSlip1 : 0);
   for (size_t i = 0; i < bodies_.size(); ++i) {
     const dBodyID b = bodies_[i];
     const bool infinite = std::isinf(body_friction_[i]);
@@ -327,6 +330,7 @@ void GenericWorld::AddPlanarGroundContacts() {
     c.surface.mu2 = 0;
     c.surface.soft_erp = contact_erp_;
     c.surface.soft_cfm = contact_cfm_;
+    c.surface.slip1 = fx_.contact_slip;
     c.geom.normal[2] = 1;
     c.fdir1[0] = 1;
     double mu = infinite ? dInfinity : body_friction_[i];

@@ -165,6 +165,10 @@ void GenericWorld::AddGroundContacts() {
       c.surface.mode = dContactSoftERP | dContactSoftCFM;
       c.surface.soft_erp = contact_erp_;
       c.surface.soft_cfm = contact_cfm_;
+      if (fx_.contact_slip > 0) {  // a creeping contact: ODE's force-dependent slip
+        c.surface.mode |= dContactSlip1 | dContactSlip2;
+        c.surface.slip1 = c.surface.slip2 = fx_.contact_slip;
+      }
       // Friction acts at the deepest corner only, the other corners carry normal force:
       // four corners of a flat box would give eight friction rows for three in-plane
       // freedoms, and ODE's LCP failed on them ("s <= 0") in about 1 gait in 50. The cost:

@@ -76,12 +76,24 @@ double ParamValues::operator()(const std::string& name) const {
   throw std::out_of_range(absl::StrCat(d_->name, " has no parameter ", name));
 }
 
+namespace {
+
+// A creeping contact at its lower edge (the catalog's nominal) is the model's own ground,
+// which sticks: no slip at all, so that the robot is as it is bit for bit.
+double CreepSlip(const ParamValues& v) {
+  const double slip = v.Effect("effect.contact_slip_m_per_n_s");
+  return slip > effects::FindEffect("contact.creep")->params[0].nominal ? slip : 0;
+}
+
+}  // namespace
+
 BuilderEffects::BuilderEffects(const ParamValues& v)
     : tether_force(v.Effect("effect.tether_force_n")),
       tether_stiffness(v.Effect("effect.tether_stiffness_n_per_m")),
       drag(v.Effect("effect.drag_n_s_per_m")),
       friction_forward(v.Effect("effect.friction_forward")),
       friction_backward(v.Effect("effect.friction_backward")),
+      contact_slip(CreepSlip(v)),
       slope(v.Effect("effect.slope_rad")),
       actuator_lag(v.Effect("effect.actuator_lag_s")),
       servo_deadband(v.Effect("effect.servo_deadband_rad")),

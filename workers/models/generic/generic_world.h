@@ -75,6 +75,7 @@ struct BuilderEffects {
   double tether_force = 0, tether_stiffness = 0;    // N, N/m on the first body
   double drag = 0;                                  // N s/m on every body
   double friction_forward = 0, friction_backward = 0;
+  double contact_slip = 0;                          // m/(N s): ground friction rows' slip
   double slope = 0;                                 // rad, + uphill along +x
   double actuator_lag = 0;    // s: before each servo's own; a piston's push follows it
   double servo_deadband = 0;  // rad

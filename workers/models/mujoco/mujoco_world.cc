@@ -56,6 +56,10 @@ absl::StatusOr<std::unique_ptr<MujocoWorld>> MujocoWorld::Build(const robots::Ro
     return absl::UnimplementedError(
         "the MuJoCo build has no direction-dependent friction (effect.friction_forward, "
         "effect.friction_backward)");
+  if (generic::BuilderEffects(v).contact_slip != 0)
+    return absl::UnimplementedError(
+        "the MuJoCo build has no creeping contact (effect.contact_slip_m_per_n_s): its "
+        "contact creeps by its own law");
   auto xml = ToMjcf(d, v, timestep_s);
   if (!xml.ok()) return xml.status();
   auto m = Load(*xml, d.source);
