@@ -18,6 +18,9 @@ on all but one of them, and a robust study started from it (`objective.from_cali
 measured on that build. --rounds R repeats it R times, as a user with the robot would:
 each round records the last study's --record-best best distinct gaits on the build and adds
 them to the calibration's recordings, so the next calibration sees what the GA exploited.
+--structure NAMES calibrates only those of STRUCTURE's parameters; --select-structure also
+calibrates each alone and keeps the fit with the lowest training error over the model's
+step and the gap finder's timestep variants (structure chosen by evidence).
 
 --diagnose closes the loop on each build: three gaits recorded on the build with the strong
 hose concealed (make_cases.GAITS: two for training, one held out), `gaitforge diagnose` on
@@ -74,12 +77,20 @@ STRUCTURAL = ("    parameters:\n"
 
 # --calibrate: what the ODE model idealises, fitted on recordings of the build (ranges wide
 # enough for any plausible build of the robot, not any one build's values), and the number
-# of random gaits recorded beside make_cases.GAITS.
+# of random gaits recorded beside make_cases.GAITS. Since session 41 with a creeping contact
+# (effects contact.creep), which regularised contact laws and soft feet have.
 STRUCTURE = [("ground.friction_coefficient", 0.3, 5.0), ("ground.contact_cfm", 1e-6, 1e-3),
              ("scale.link_stiffness", 0.5, 2.0), ("scale.link_damping", 0.3, 3.0),
              ("actuators.force_n", 5.0, 12.0), ("effect.lump_compliance_per_mpa", 0.0, 5.0),
-             ("nuisance.time_offset_s", -0.05, 0.05)]
+             ("effect.contact_slip_m_per_n_s", 1e-5, 1.0), ("nuisance.time_offset_s", -0.05, 0.05)]
 CALIBRATION_GAITS = 3
+# --select-structure: each structural parameter calibrated alone (with the time offset) on
+# this budget (CMA-ES on two genes converges within it); the fits are compared at the
+# gap finder's timestep variants too (robots/numerics.cc; its contact softness variants
+# would overwrite a fitted softness).
+SINGLE_EVALUATIONS = 300
+STEP_VARIANTS = ["simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075",
+                 "simulation.timestep_s=0.00125"]
 
 
 def spec(name, population, generations, robust, diagnosis="", structural=False, calibration="",
@@ -266,9 +277,10 @@ def completed(db, name):
     return bool(row) and row[0] == "completed"
 
 
-def calibrate(args, build, folder, db, name, training, held_out):
-    """CMA-ES over STRUCTURE on `training` recordings of `build`; returns (study id, fit)."""
-    bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in STRUCTURE)
+def calibrate(args, build, folder, db, name, training, held_out, family, evaluations):
+    """CMA-ES over `family` on `training` recordings of `build`; returns (study id, fit, its
+    training error)."""
+    bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in family)
     path = os.path.join(folder, f"{name}.yaml")
     with open(path, "w") as f:
         f.write(f"name: {name}\nseed: 1\nengine: cmaes\npopulation: 10\n"
@@ -276,7 +288,7 @@ def calibrate(args, build, folder, db, name, training, held_out):
                 f"  options: {{error: shape, metric: rmse}}\n"
                 f"  recordings: [{', '.join(training)}]\n  held_out: [{held_out}]\n"
                 f"bounds:\n{bounds}cmaes: {{sigma0: 0.25, restarts: none, "
-                f"max_evaluations: {args.calibration_evaluations}}}\n")
+                f"max_evaluations: {evaluations}}}\n")
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
     if not (args.reuse and completed(db, name)):
         r = subprocess.run(gf + ["--out", folder, "local", path, "--workers", "2", "--dashboard",
@@ -288,8 +300,57 @@ def calibrate(args, build, folder, db, name, training, held_out):
     ident = next(s["study_id"] for s in studies if s["spec"]["name"] == name)
     hof = json.loads(subprocess.run(gf + ["hof", ident, "--json"], capture_output=True, text=True,
                                     check=True).stdout)
-    genes = hof["entries"][0]["individual"]["genes"]
-    return ident, {n: g for (n, *_), g in zip(STRUCTURE, genes)}
+    best = hof["entries"][0]["individual"]
+    return ident, {n: g for (n, *_), g in zip(family, best["genes"])}, -best["evaluation"]["fitness"]
+
+
+def select_structure(args, build, folder, db, name, training, held_out):
+    """The --structure family calibrated on `training`; with --select-structure also each of
+    its parameters alone (with the time offset, SINGLE_EVALUATIONS each), and the fit kept
+    whose training error is lowest on average over the model's own step and the gap
+    finder's timestep variants (STEP_VARIANTS): structure chosen by evidence across the
+    recordings that does not rest on the step it was fitted at. Returns (study id, fit, the
+    chosen family's key, every family's errors)."""
+    family = structure_family(args)
+    fits = {"family": calibrate(args, build, folder, db, name, training, held_out, family,
+                                args.calibration_evaluations)}
+    for entry in family if args.select_structure else ():
+        if entry[0] != "nuisance.time_offset_s":
+            single = [entry] + [e for e in family if e[0] == "nuisance.time_offset_s"]
+            fits[entry[0]] = calibrate(args, build, folder, db, f"{name}-{entry[0]}", training,
+                                       held_out, single,
+                                       min(SINGLE_EVALUATIONS, args.calibration_evaluations))
+    if len(fits) == 1:
+        return fits["family"][0], fits["family"][1], "family", {"family": [fits["family"][2]]}
+    errors = {k: step_errors(args, training, fit) for k, (_, fit, _) in fits.items()}
+    chosen = min(fits, key=lambda k: np.mean(errors[k]))
+    return fits[chosen][0], fits[chosen][1], chosen, errors
+
+
+def step_errors(args, recordings, fit):
+    """The mean training error of `fit` at the model's step and at each of STEP_VARIANTS."""
+    values = ",".join(f"{n}={v!r}" for n, v in fit.items())
+    out = []
+    for variant in [""] + STEP_VARIANTS:
+        r = subprocess.run([os.path.join(args.bin, "gaitforge-sim"), "calibration-eval",
+                            "--recordings", ",".join(recordings), "--set",
+                            values + ("," + variant if variant else "")],
+                           capture_output=True, text=True, check=True)
+        rows = json.loads(r.stdout)["recordings"]
+        out.append(float(np.mean([x["metrics"]["error"] if x["valid"] else np.inf for x in rows])))
+    return out
+
+
+def structure_family(args):
+    """STRUCTURE's entries that --structure names (all by default), with the time offset."""
+    if not args.structure:
+        return STRUCTURE
+    names = args.structure.split(",")
+    unknown = sorted(set(names) - {n for n, *_ in STRUCTURE})
+    if unknown:
+        sys.exit(f"--structure: unknown {', '.join(unknown)}; known: "
+                 f"{', '.join(n for n, *_ in STRUCTURE)}")
+    return [s for s in STRUCTURE if s[0] in names or s[0] == "nuisance.time_offset_s"]
 
 
 def calibrate_and_evolve(args, build):
@@ -303,21 +364,27 @@ def calibrate_and_evolve(args, build):
     paths = record_gaits(build, folder, {})
     training, held_out = paths[:-1], paths[-1]
     for rnd in range(args.rounds):
-        study = f"calibrated-{build}" + (f"-r{rnd + 1}" if rnd else "")
-        db = os.path.join(args.out, f"{study}.db")
-        reused = args.reuse and completed(db, study)
-        if os.path.exists(db) and not reused:
+        base = f"calibrated-{build}" + (f"-r{rnd + 1}" if rnd else "")
+        db = os.path.join(args.out, f"{base}.db")
+        if os.path.exists(db) and not args.reuse:
             os.remove(db)
         t0 = time.monotonic()
-        ident, fit = calibrate(args, build, folder, db, f"structure-{study}", training, held_out)
-        print(f"calibration {study} on {len(training)} recordings: {fit} "
-              f"({time.monotonic() - t0:.0f} s{', reused' if reused else ''})", flush=True)
+        ident, fit, chosen, errors = select_structure(args, build, folder, db, f"structure-{base}",
+                                                      training, held_out)
+        # The robust study is named for the family it starts from, so --reuse finds its own.
+        study = base if chosen == "family" else f"{base}-{chosen}"
+        reused = args.reuse and completed(db, study)
+        print(f"calibration {base} on {len(training)} recordings, kept {chosen}: {fit} "
+              f"({time.monotonic() - t0:.0f} s; training errors at the steps: {errors})",
+              flush=True)
         if not reused:
             evolve(args, study, args.generations, True, db=db, calibration=ident)
         ensemble = ensemble_of(db, study)
         print(f"ensemble of {study}: {ensemble}", flush=True)
         yield study, db, time.monotonic() - t0, {"fit": fit, "ensemble": ensemble,
-                                                 "recordings": len(training)}
+                                                 "recordings": len(training),
+                                                 "family": chosen,
+                                                 "training_errors_at_steps": errors}
         if rnd + 1 == args.rounds:
             break
         best = gait_sets(db, True, args.record_best, study)["best"]
@@ -350,10 +417,10 @@ def table(sets, where, achieved, walls):
                              "ratio": ach[ok].sum() / pred[ok].sum(), "spearman": rho,
                              "best_gait_cm": 100 * ach[0] if kind == "best" else float("nan"),
                              "wall_s": walls[study]})
-    print(f"{'study':<22}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
+    print(f"{'study':<44}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
           f"{'ratio':>7}{'rho':>7}{'best cm':>9}{'wall s':>8}")
     for r in rows:
-        print(f"{r['study']:<22}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
+        print(f"{r['study']:<44}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
               f"{r['predicted_cm']:>9.2f}{r['achieved_cm']:>9.2f}{r['ratio']:>7.2f}"
               f"{r['spearman']:>7.2f}{r['best_gait_cm']:>9.2f}{r['wall_s']:>8.0f}")
     return rows
@@ -375,6 +442,12 @@ def main():
                          "and evolve robustly from that calibration")
     ap.add_argument("--calibration-evaluations", type=int, default=800,
                     help="--calibrate: CMA-ES evaluations of the calibration")
+    ap.add_argument("--structure", default="",
+                    help="--calibrate: only these of STRUCTURE's parameters, comma separated "
+                         "(the time offset always; default: all)")
+    ap.add_argument("--select-structure", action="store_true",
+                    help="--calibrate: also calibrate each structural parameter alone and keep "
+                         "the fit with the lowest training error over the timestep variants")
     ap.add_argument("--rounds", type=int, default=1,
                     help="--calibrate: calibrate and evolve this many times, each round "
                          "recording the last study's --record-best best gaits on the build "
@@ -382,8 +455,9 @@ def main():
     ap.add_argument("--record-best", type=int, default=5,
                     help="--rounds: gaits recorded per round")
     ap.add_argument("--reuse", action="store_true",
-                    help="--calibrate: keep a round whose calibration and study completed in "
-                         "--out's database (a benchmark interrupted, or run with fewer rounds)")
+                    help="--calibrate: keep the calibrations and studies that completed in "
+                         "--out's databases (a benchmark interrupted, or run with fewer rounds "
+                         "or without --select-structure)")
     ap.add_argument("--structural", action="store_true",
                     help="also a robust study whose ensemble samples the model's idealisations "
                          "(STRUCTURAL)")
