@@ -261,9 +261,8 @@ const std::vector<EffectInfo>& EffectCatalog() {
        "touching foot grows in proportion to the friction force it carries, v = s F, up to "
        "the Coulomb limit (ODE's force-dependent slip). Soft silicone feet shear and "
        "regularised contact laws (MuJoCo's soft constraints, penalty contacts) do this; the "
-       "model's ground sticks. The range spans decades: search its logarithm; its lower "
-       "edge is the model's own sticking ground (no slip), so the range is not continuous "
-       "there.",
+       "model's ground sticks. The range spans decades; its lower edge is the model's own "
+       "sticking ground (no slip), so the range is not continuous there.",
        {{"effect.contact_slip_m_per_n_s", 1e-5, 1, 1e-5, "m/(N s)"}},
        "Feet that should stand still drift slowly backwards during every stroke that pushes "
        "against them, more under larger pushes and longer strokes; less travel for every "

@@ -315,11 +315,10 @@ sim::SimOutcome GenericWorld::CheckPistons() const {
 // the step; 0 keeps the ground's own) is finite and goes on every touching corner, each
 // row bounded by mu times its own corner's normal force (dContactApprox1), so the bound is
 // mu times the body's whole normal force. A creeping contact (effect.contact_slip_m_per_n_s)
-// gives each friction row ODE's force-dependent slip.
+// gives each friction row ODE's force-dependent slip: it slides at slip times its force.
 void GenericWorld::AddPlanarGroundContacts() {
   ground_contacts_ = 0;
   const bool anisotropic = fx_.friction_forward != 0 || fx_.friction_backward != 0;
-  // effect.contact_slip_m_per_n_s: the friction row slides at slip times its force.
   const int base_mode = dContactMu2 | dContactFDir1 | dContactSoftERP | dContactSoftCFM |
                         (fx_.contact_slip > 0 ? dContactSlip1 : 0);
   for (size_t i = 0; i < bodies_.size(); ++i) {

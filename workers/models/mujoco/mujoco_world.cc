@@ -52,11 +52,12 @@ absl::StatusOr<mjModel*> Load(const std::string& xml, const std::string& source)
 absl::StatusOr<std::unique_ptr<MujocoWorld>> MujocoWorld::Build(const robots::RobotDescriptor& d,
                                                                 const generic::ParamValues& v,
                                                                 double timestep_s) {
-  if (const generic::BuilderEffects fx(v); fx.friction_forward != 0 || fx.friction_backward != 0)
+  const generic::BuilderEffects fx(v);
+  if (fx.friction_forward != 0 || fx.friction_backward != 0)
     return absl::UnimplementedError(
         "the MuJoCo build has no direction-dependent friction (effect.friction_forward, "
         "effect.friction_backward)");
-  if (generic::BuilderEffects(v).contact_slip != 0)
+  if (fx.contact_slip != 0)
     return absl::UnimplementedError(
         "the MuJoCo build has no creeping contact (effect.contact_slip_m_per_n_s): its "
         "contact creeps by its own law");
