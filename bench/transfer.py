@@ -472,6 +472,7 @@ def main():
     if args.quick:
         args.population, args.generations, args.gaits, args.cycles = 12, 3, 3, 2
         args.screening, args.full, args.calibration_evaluations = 24, 48, 40
+    structure_family(args)  # an unknown --structure name stops here, before any recording
     if args.rounds < 1 or args.record_best < 1:
         sys.exit(f"--rounds and --record-best: at least 1 (got {args.rounds}, {args.record_best})")
     builds = args.builds.split(",")
