@@ -113,10 +113,10 @@ def _is_svg(path):
 def structure_only(result, accept, truth):
     """Whether a found verdict names, beside what the case accepts, only the model's own
     structure (the report's `structural` parts: friction, contact softness and creep,
-    resolution, damping, stiffness, mass; effects::IsStructural). Issue 25 counts that as no physics beyond the
-    structural set: not a wrong name on a null, a miss on an effect case, unless the case's
-    truth is itself structural (then another structure is a wrong name). Reports from
-    before session 40 carry no `structural`: False."""
+    resolution, damping, stiffness, mass; effects::IsStructural). Issue 25 counts that as
+    no physics beyond the structural set: not a wrong name on a null, a miss on an effect
+    case, unless the case's truth is itself structural (then another structure is a wrong
+    name). Reports from before session 40 carry no `structural`: False."""
     if result.get("verdict") != "found" or not result.get("effects"):
         return False
     first = result["effects"][0]
