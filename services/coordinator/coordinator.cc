@@ -85,10 +85,7 @@ bool Coordinator::Finished(const Study& s) {
 
 absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
     const v1::StudySpec& spec) {
-  const spec::EngineKind* kind = spec::FindEngineKind(spec.engine());
-  if (kind == nullptr)
-    return absl::InvalidArgumentError(absl::StrCat("unknown engine '", spec.engine(), "'"));
-  return kind->make(spec);
+  return spec::MakeEngine(spec);
 }
 
 absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {

@@ -35,6 +35,11 @@ const std::vector<EngineKind>& EngineKinds();
 const EngineKind* FindEngineKind(std::string_view name);  // nullptr when unknown
 std::string EngineNames();                                // "ga, cmaes, sweep, nsga2"
 
+// The optimiser of a valid spec: its kind's engine, which searches the genes marked `log`
+// by their logarithm (engines::LogGenesEngine) while every gene it reports is in the
+// spec's units.
+absl::StatusOr<std::unique_ptr<engines::Engine>> MakeEngine(const v1::StudySpec& spec);
+
 // Each engine's kind (services/spec/engines/*.cc).
 EngineKind GaEngineKind();
 EngineKind CmaesEngineKind();

@@ -270,6 +270,11 @@ std::vector<FieldError> Validate(const StudySpec& spec) {
       add(path, absl::StrCat("needs finite lo < hi; got lo = ", b.lo(), ", hi = ", b.hi()));
     if (!names.insert(b.name()).second)
       add(absl::StrCat(path, ".name"), absl::StrCat("'", b.name(), "' appears twice"));
+    if (b.log() && !(b.lo() > 0))
+      add(path + ".log", absl::StrCat("needs lo > 0 (the gene is searched by its logarithm); got "
+                                      "lo = ", b.lo()));
+    if (b.log() && b.circular())
+      add(path + ".log", "and circular exclude each other: a phase is searched on its circle");
   }
 
   ValidateCircular(spec, info, e);

@@ -7,6 +7,7 @@
 #include <future>
 #include <sstream>
 
+#include "absl/strings/str_cat.h"
 #include "services/coordinator/coordinator.h"
 #include "tests/integration/study_driver.h"
 #include "workers/protocol/job_eval.h"
@@ -418,6 +419,22 @@ TEST(Coordinator, AWorkerOfAnotherSimulatorBuildIsRefused) {
   EXPECT_EQ(again->GetStudy(id)->sim_build(), "build-A");
 }
 
+// `spec` run again in "b.db" in batches of 3 reported in reverse, the coordinator restarted
+// after 40 reports, then in batches of 5: the study ends as `expected`.
+void ExpectSameInSmallReversedBatchesAfterARestart(const v1::StudySpec& spec, TempDir& dir,
+                                                   core::ManualClock& clock,
+                                                   const StudyDump& expected) {
+  std::string ib;
+  {
+    auto b = Open(dir.File("b.db"), clock);
+    ib = Create(*b, spec);
+    Drive(*b, {.batch = 3, .reverse = true, .max_reports = 40});
+  }
+  auto b = Open(dir.File("b.db"), clock);  // restarted mid-study
+  Drive(*b, {.batch = 5});
+  EXPECT_EQ(expected, Dump(*b, ib));
+}
+
 TEST(Coordinator, CmaesStudyConvergesAndIsIndependentOfBatchingAndRestarts) {
   TempDir dir;
   core::ManualClock clock;
@@ -433,16 +450,45 @@ TEST(Coordinator, CmaesStudyConvergesAndIsIndependentOfBatchingAndRestarts) {
   EXPECT_EQ(sa->state(), v1::STUDY_STATE_COMPLETED);
   EXPECT_GT(sa->best_fitness(), -1e-8) << "CMA-ES solves the 13-d sphere";
   EXPECT_LT(sa->evaluations(), 6000);
+  ExpectSameInSmallReversedBatchesAfterARestart(spec, dir, clock, Dump(*a, ia));
+}
 
-  std::string ib;
-  {
-    auto b = Open(dir.File("b.db"), clock);
-    ib = Create(*b, spec);
-    Drive(*b, {.batch = 3, .reverse = true, .max_reports = 40});
+// Log genes through the coordinator: the engine searches ln(x), the store and the hall of
+// fame hold x, and the result is the same across batching, report order and a restart.
+TEST(Coordinator, LogGenesAreStoredInUnitsAndResumeBitIdentically) {
+  TempDir dir;
+  core::ManualClock clock;
+  auto spec = SmallSpec(4, 0, 400);
+  spec.set_engine("cmaes");
+  spec.mutable_objective()->set_name("analytic.sphere");
+  for (int i = 0; i < 3; ++i) {
+    auto* b = spec.add_bounds();
+    b->set_name(absl::StrCat("x", i));
+    b->set_lo(0.01);
+    b->set_hi(1.0);
+    b->set_log(true);
   }
-  auto b = Open(dir.File("b.db"), clock);  // restarted mid-study
-  Drive(*b, {.batch = 5});
-  EXPECT_EQ(Dump(*a, ia), Dump(*b, ib));
+  spec.mutable_cmaes()->set_max_evaluations(3000);
+  spec.mutable_cmaes()->set_stop_fitness(-1e-10);
+  auto a = Open(dir.File("a.db"), clock);
+  const std::string ia = Create(*a, spec);
+  Drive(*a, {.batch = 64});
+  EXPECT_GT(a->GetStudy(ia)->best_fitness(), -1e-8) << "CMA-ES solves the sphere in ln(x)";
+  auto hof = a->HallOfFame(ia, std::nullopt);
+  ASSERT_TRUE(hof.ok()) << hof.status();
+  // The sphere's optimum sits at 0.6, 0.4, 0.6 of each range in units (analytic.cc).
+  const std::vector<double> genes(hof->entries(0).individual().genes().begin(),
+                                  hof->entries(0).individual().genes().end());
+  EXPECT_NEAR(genes.at(0), 0.01 + 0.6 * 0.99, 1e-4);
+  EXPECT_NEAR(genes.at(1), 0.01 + 0.4 * 0.99, 1e-4);
+  auto first = a->Individuals(ia, 0);
+  ASSERT_TRUE(first.ok());
+  for (const auto& ind : first->individuals())
+    for (double g : ind.genes()) {
+      EXPECT_GE(g, 0.01);
+      EXPECT_LE(g, 1.0);
+    }
+  ExpectSameInSmallReversedBatchesAfterARestart(spec, dir, clock, Dump(*a, ia));
 }
 
 TEST(Coordinator, SweepStudyRefinesTheGridWithNelderMead) {

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "services/spec/engine_kinds.h"
@@ -93,6 +94,57 @@ TEST(EngineKinds, Nsga2ObjectivesComeFromTheMetricsHigherIsBetter) {
   e.set_valid(false);
   EXPECT_TRUE(ObjectivesOf(spec, e, &out).ok());
   EXPECT_TRUE(out.empty());
+}
+
+// A log gene: every engine is made over ln(x) and reports x; cmaes.mean0 and a sweep
+// factor's values are written in the gene's units and mapped too.
+TEST(EngineKinds, LogGenesAreSearchedByTheirLogarithmAndReportedInUnits) {
+  for (const EngineKind& k : EngineKinds()) {
+    v1::StudySpec spec = Minimal(k.name);
+    spec.mutable_bounds(0)->set_lo(1e-5);
+    spec.mutable_bounds(0)->set_log(true);
+    ASSERT_TRUE(Validate(spec).empty()) << k.name << ": " << ValidationStatus(Validate(spec));
+    auto engine = MakeEngine(spec);
+    ASSERT_TRUE(engine.ok()) << k.name << ": " << engine.status();
+    for (const auto& m : (*engine)->Ask()) {
+      EXPECT_GE(m.genes[0], 1e-5) << k.name;
+      EXPECT_LE(m.genes[0], 1.0) << k.name;
+    }
+  }
+  v1::StudySpec cma = Minimal("cmaes");
+  cma.mutable_bounds(0)->set_lo(1e-5);
+  cma.mutable_bounds(0)->set_log(true);
+  cma.mutable_cmaes()->add_mean0(1e-4);
+  cma.mutable_cmaes()->add_mean0(0.5);
+  cma.mutable_cmaes()->set_sigma0(1e-6);
+  auto engine = MakeEngine(cma);
+  ASSERT_TRUE(engine.ok()) << engine.status();
+  EXPECT_NEAR((*engine)->Ask().at(0).genes[0], 1e-4, 1e-8);  // mean0 in units, not in ln
+  EXPECT_NEAR((*engine)->Ask().at(0).genes[1], 0.5, 1e-4);
+  // The sweep's grid over a log gene is geometric: 1e-5, 1e-4, ..., 1.
+  v1::StudySpec sweep = Minimal("sweep");
+  sweep.mutable_bounds(0)->set_lo(1e-5);
+  sweep.mutable_bounds(0)->set_log(true);
+  sweep.mutable_sweep()->clear_points_per_axis();
+  sweep.mutable_sweep()->add_points_per_axis(6);
+  sweep.mutable_sweep()->add_points_per_axis(1);
+  auto grid = MakeEngine(sweep);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  std::set<double> decades;
+  for (const auto& m : (*grid)->Ask()) decades.insert(std::round(std::log10(m.genes[0])));
+  EXPECT_EQ(decades, (std::set<double>{-5, -4, -3, -2, -1, 0}));
+}
+
+TEST(EngineKinds, ALogGeneNeedsAPositiveRangeAndNoCircle) {
+  v1::StudySpec spec = Minimal("cmaes");
+  spec.mutable_bounds(1)->set_log(true);
+  EXPECT_THAT(std::string(ValidationStatus(Validate(spec)).message()),
+              HasSubstr("field 'bounds[1].log' needs lo > 0 (the gene is searched by its "
+                        "logarithm); got lo = 0"));
+  spec.mutable_bounds(1)->set_lo(0.1);
+  spec.mutable_bounds(1)->set_circular(true);
+  EXPECT_THAT(std::string(ValidationStatus(Validate(spec)).message()),
+              HasSubstr("field 'bounds[1].log' and circular exclude each other"));
 }
 
 }  // namespace
