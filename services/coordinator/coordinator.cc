@@ -283,7 +283,8 @@ void Coordinator::CompleteGeneration(Study& s) {
   std::map<std::string, int> invalid_reasons;
   for (size_t m = 0; m < cands.size(); ++m) {
     const Result& r = *s.results[m];
-    evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation};
+    evals[m] = {r.evaluation.valid(), r.evaluation.fitness(), r.evaluation.reason(), r.violation,
+                {}};
     if (!spec::ObjectivesOf(s.spec, r.evaluation, &evals[m].objectives).ok())
       evals[m].valid = false;
     if (r.carried) {

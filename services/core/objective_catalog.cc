@@ -70,44 +70,34 @@ std::vector<std::pair<std::string, std::vector<std::string>>> ComparisonOptions(
           {"weights", {}}};
 }
 
+// An analytic test function's entry: genes only, no recordings, no robot.
+ObjectiveInfo AnalyticEntry(std::string name, std::string summary, bool with_params) {
+  ObjectiveInfo o;
+  o.name = std::move(name);
+  o.summary = std::move(summary);
+  if (with_params) o.params = AnalyticParams();
+  o.default_space = AnalyticSpace();
+  return o;
+}
+
 std::vector<ObjectiveInfo> AnalyticCatalog() {
   return {
-      {"analytic.sphere",
-       "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
-       AnalyticParams(),
-       AnalyticSpace(),
-       0,
-       {},
-       false},
-      {"analytic.ellipsoid",
-       "fitness = -sum 1e6^(i/(n-1)) z_i^2 (conditioning 1e6)",
-       AnalyticParams(),
-       AnalyticSpace(),
-       0,
-       {},
-       false},
-      {"analytic.rosenbrock",
-       "fitness = -sum 100 (z_{i+1} - z_i^2)^2 + (1 - z_i)^2",
-       AnalyticParams(),
-       AnalyticSpace(),
-       0,
-       {},
-       false},
-      {"analytic.rastrigin",
-       "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
-       AnalyticParams(),
-       AnalyticSpace(),
-       0,
-       {},
-       false},
-      {"analytic.zdt1",
-       "two objectives for nsga2: metrics f1 = u_0 and f2 = g (1 - sqrt(f1 / g)), "
-       "g = 1 + 9 mean(u_1..), genes mapped to u in [0, 1); fitness = -(f1 + f2)",
-       {},
-       AnalyticSpace(),
-       0,
-       {},
-       false},
+      AnalyticEntry("analytic.sphere",
+                    "fitness = -sum z_i^2 over genes mapped to z in [-5, 5)",
+                    true),
+      AnalyticEntry("analytic.ellipsoid",
+                    "fitness = -sum 1e6^(i/(n-1)) z_i^2 (conditioning 1e6)",
+                    true),
+      AnalyticEntry("analytic.rosenbrock",
+                    "fitness = -sum 100 (z_{i+1} - z_i^2)^2 + (1 - z_i)^2",
+                    true),
+      AnalyticEntry("analytic.rastrigin",
+                    "fitness = -(10 n + sum z_i^2 - 10 cos(2 pi z_i))",
+                    true),
+      AnalyticEntry("analytic.zdt1",
+                    "two objectives for nsga2: metrics f1 = u_0 and f2 = g (1 - sqrt(f1 / g)), "
+                    "g = 1 + 9 mean(u_1..), genes mapped to u in [0, 1); fitness = -(f1 + f2)",
+                    false),
   };
 }
 
@@ -166,7 +156,9 @@ std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
        "",
        true,
        {"nuisance.time_offset_s"},
-       true},
+       true,
+       "",
+       false},
       {"robot.tracking",
        "paper 004's tracking by any generic robot with a tracking section (objective.robot): "
        "it follows each recording (a path of its tracked marker) from rest with its PID; "
@@ -186,7 +178,9 @@ std::vector<ObjectiveInfo> RobotAgnosticCatalog() {
        "",
        true,
        {},
-       true},
+       true,
+       "",
+       false},
   };
 }
 
@@ -240,7 +234,10 @@ ObjectiveInfo OwnCalibration(const robots::RobotDescriptor& r) {
           r.name,
           true,
           // recording time t corresponds to simulated time t + offset (s)
-          {"nuisance.time_offset_s"}};
+          {"nuisance.time_offset_s"},
+          false,
+          "",
+          false};
 }
 
 // The analytic family, then the built-in robots' own objective names, then the

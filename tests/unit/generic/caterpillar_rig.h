@@ -100,7 +100,9 @@ inline Rig MakeRig(const Cut& cut = {}, const std::vector<std::pair<std::string,
   Rig rig;
   rig.d = std::make_unique<robots::RobotDescriptor>(CutDescriptor(cut));
   rig.values = std::make_unique<ParamValues>(*rig.d);
-  if (!cut.gravity) EXPECT_TRUE(rig.values->Set("simulation.gravity_m_per_s2", 0).ok());
+  if (!cut.gravity) {
+    EXPECT_TRUE(rig.values->Set("simulation.gravity_m_per_s2", 0).ok());
+  }
   for (const auto& [name, value] : set) {
     const absl::Status s = rig.values->Set(name, value);
     EXPECT_TRUE(s.ok()) << s;
