@@ -278,10 +278,17 @@ def completed(db, name):
     return bool(row) and row[0] == "completed"
 
 
+def log_mark(lo, hi):
+    """`, log: true` for a range of two decades or more (searched by its logarithm, as the
+    gap finder judges such ranges: LogScaled in services/diagnosis/decision.cc)."""
+    return ", log: true" if lo > 0 and hi >= 100 * lo else ""
+
+
 def calibrate(args, build, folder, db, name, training, held_out, family, evaluations):
     """CMA-ES over `family` on `training` recordings of `build`; returns (study id, fit, its
     training error)."""
-    bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}}}\n" for n, lo, hi in family)
+    bounds = "".join(f"  - {{name: {n}, lo: {lo}, hi: {hi}{log_mark(lo, hi)}}}\n"
+                     for n, lo, hi in family)
     path = os.path.join(folder, f"{name}.yaml")
     with open(path, "w") as f:
         f.write(f"name: {name}\nseed: 1\nengine: cmaes\npopulation: 10\n"

@@ -52,10 +52,18 @@ std::vector<GeneRange> LeftOpen(storage::StudyStore& store, const std::string& i
 }  // namespace
 
 std::vector<GeneRange> SpreadRanges(const std::vector<double>& best,
-                                    const std::vector<double>& spread) {
+                                    const std::vector<double>& spread,
+                                    const std::vector<bool>& log) {
   std::vector<GeneRange> out(std::min(best.size(), spread.size()));
-  for (size_t i = 0; i < out.size(); ++i)
-    if (std::isfinite(spread[i])) out[i] = {best[i] - 2 * spread[i], best[i] + 2 * spread[i]};
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (!std::isfinite(spread[i])) continue;
+    if (i < log.size() && log[i] && best[i] > 0) {
+      const double s = std::asinh(spread[i] / best[i]);
+      out[i] = {best[i] * std::exp(-2 * s), best[i] * std::exp(2 * s)};
+    } else {
+      out[i] = {best[i] - 2 * spread[i], best[i] + 2 * spread[i]};
+    }
+  }
   return out;
 }
 
@@ -123,7 +131,9 @@ absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& 
     return absl::FailedPreconditionError(
         absl::StrCat(kField, ": study ", id, " has no valid fit in its hall of fame"));
   const storage::HofRecord& best = hof->second[0];
-  std::vector<GeneRange> ranges = SpreadRanges(best.genes, spread_after(id, hof->first));
+  std::vector<bool> log;
+  for (const auto& b : calibration.bounds()) log.push_back(b.log());
+  std::vector<GeneRange> ranges = SpreadRanges(best.genes, spread_after(id, hof->first), log);
   if (spec->objective().has_robust()) ranges = Hull(ranges, LeftOpen(store, id, hof->first, best));
   return ApplyCalibration(id, calibration, best.genes, ranges, spec);
 }

@@ -19,9 +19,12 @@ namespace gaitforge::coordinator {
 // when its engine keeps none).
 using SpreadFn = std::function<std::vector<double>(const std::string& id, int g)>;
 
-// best +- 2 spread per gene (a gene with a non-finite spread gets none).
+// best +- 2 spread per gene (a gene with a non-finite spread gets none). A gene searched by
+// its logarithm (log[i]; engines::LogGenesEngine reports its spread as x sinh(s)) gets
+// [x e^-2s, x e^2s]: two log-space sd on each side, never below zero.
 std::vector<GeneRange> SpreadRanges(const std::vector<double>& best,
-                                    const std::vector<double>& spread);
+                                    const std::vector<double>& spread,
+                                    const std::vector<bool>& log = {});
 
 // Fills spec->objective from calibration study `id` (its stored spec, the best genes of its
 // hall of fame and the ranges around them): the gait objective of the calibrated robot

@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "services/coordinator/corrected_model.h"
 #include "tests/unit/coordinator/calibration_fixture.h"
 
@@ -40,6 +42,19 @@ TEST(FromCalibration, TheFitBecomesTheModelAndItsSpreadTheEnsemble) {
   // +- 2 sd reaches past both bounds: clipped to the calibration's range.
   EXPECT_EQ(o.robust().parameters(1).lo(), 0.7);
   EXPECT_EQ(o.robust().parameters(1).hi(), 1.4);
+}
+
+// A log gene's spread is x sinh(s) (engines::LogGenesEngine): its range is x e^(+-2s),
+// multiplicative and above zero, where x +- 2 spread would reach below zero.
+TEST(FromCalibration, ALogGenesRangeIsTwoLogSpaceSdEachSide) {
+  const double x = 0.01, s = 0.5;
+  const auto ranges = SpreadRanges({x, 9.6}, {x * std::sinh(s), 0.1}, {true, false});
+  ASSERT_EQ(ranges.size(), 2u);
+  EXPECT_NEAR(ranges[0].lo, x * std::exp(-1.0), 1e-15);
+  EXPECT_NEAR(ranges[0].hi, x * std::exp(1.0), 1e-15);
+  EXPECT_NEAR(ranges[1].lo, 9.4, 1e-12);  // a linear gene as before
+  EXPECT_GT(SpreadRanges({x}, {x * std::sinh(s)})[0].hi, 0.0);
+  EXPECT_LT(SpreadRanges({x}, {x * std::sinh(s)})[0].lo, 0.0);  // unmarked: linear
 }
 
 TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay) {
