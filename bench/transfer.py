@@ -95,8 +95,8 @@ STEP_VARIANTS = ["simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075"
 
 
 def spec(name, population, generations, robust, diagnosis="", structural=False, calibration="",
-         k=ROBUST_K):
-    text = (f"name: {name}\nseed: 1\nengine: ga\npopulation: {population}\n"
+         k=ROBUST_K, seed=1):
+    text = (f"name: {name}\nseed: {seed}\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
     if diagnosis:
@@ -118,7 +118,7 @@ def evolve(args, name, generations, robust, db=None, diagnosis="", structural=Fa
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
         f.write(spec(name, args.population, generations, robust, diagnosis, structural, calibration,
-                     args.robust_k))
+                     args.robust_k, args.seed))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -379,7 +379,8 @@ def calibrate_and_evolve(args, build):
         ident, fit, chosen, errors = select_structure(args, build, folder, db, f"structure-{base}",
                                                       training, held_out)
         # The robust study is named for the family it starts from, so --reuse finds its own.
-        study = base if chosen == "family" else f"{base}-{chosen}"
+        study = (base if chosen == "family" else f"{base}-{chosen}") + (
+            f"-seed{args.seed}" if args.seed != 1 else "")
         reused = args.reuse and completed(db, study)
         print(f"calibration {base} on {len(training)} recordings, kept {chosen}: {fit} "
               f"({time.monotonic() - t0:.0f} s; training errors at the steps: {errors})",
@@ -474,6 +475,10 @@ def main():
     ap.add_argument("--full", type=int, default=480, help="--diagnose: refit budget")
     ap.add_argument("--robust-k", type=float, default=ROBUST_K,
                     help="k of the robust studies' statistic, mean - k sd")
+    ap.add_argument("--seed", type=int, default=1,
+                    help="the gait studies' seed (a study from a calibration is named -seedN "
+                         "when N is not 1): one study's figures carry the hopping robot's chaos; "
+                         "several seeds measure it")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     if args.quick:

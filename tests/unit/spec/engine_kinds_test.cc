@@ -145,6 +145,14 @@ TEST(EngineKinds, ALogGeneNeedsAPositiveRangeAndNoCircle) {
   spec.mutable_bounds(1)->set_circular(true);
   EXPECT_THAT(std::string(ValidationStatus(Validate(spec)).message()),
               HasSubstr("field 'bounds[1].log' and circular exclude each other"));
+  // From a file the error names its line and column.
+  auto loaded = ParseSpec("engine: cmaes\ngenerations: 3\nobjective: {name: analytic.sphere}\n"
+                          "bounds:\n  - {name: a, lo: 0, hi: 1, log: true}\n",
+                          "s.yaml");
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  ApplyDefaults(&loaded->spec);
+  EXPECT_THAT(std::string(ValidationStatus(Validate(loaded->spec), &*loaded).message()),
+              HasSubstr("s.yaml:5:"));
 }
 
 }  // namespace
