@@ -2,10 +2,12 @@
 // checked against the SQLite file itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <thread>
 
 #include "clients/cli/cli.h"
@@ -186,6 +188,43 @@ TEST(EndToEnd, LocalRunsTheEmbeddedDefaultAndLeavesItQueryable) {
   auto list = RunCommand("cd " + dir.path() + " && " + Bin("gaitforge") + " list");
   EXPECT_EQ(list.exit_code, 0) << list.err;
   EXPECT_NE(list.out.find("completed"), std::string::npos) << list.out;
+}
+
+// Genes marked log: true through the CLI, the coordinator, the workers and the store: the
+// first generation centres on the range's geometric middle (0.032; a linear search's
+// would be 0.5), and the fit is reported in the genes' units.
+TEST(EndToEnd, LogGenesAreSearchedByTheirLogarithmAndReportedInUnits) {
+  TempDir dir;
+  WriteFile(dir.File("log.yaml"),
+            "name: log\nseed: 5\nengine: cmaes\npopulation: 12\ngenerations: 60\n"
+            "objective: {name: analytic.sphere}\n"
+            "bounds:\n  - {name: a, lo: 0.001, hi: 1, log: true}\n"
+            "  - {name: b, lo: 0.001, hi: 1, log: true}\n"
+            "cmaes: {max_evaluations: 600, restarts: none}\n");
+  const std::string cli = "cd " + dir.path() + " && " + Bin("gaitforge") + " --db log.db ";
+  auto r = RunCommand(cli + "local log.yaml --workers 2 --dashboard off");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::smatch m;
+  const std::string list = RunCommand(cli + "list --json").out;
+  ASSERT_TRUE(std::regex_search(list, m, std::regex(R"re("study_id":\s*"([^"]+)")re"))) << list;
+  const std::string id = m[1].str();
+  const std::string first = RunCommand(cli + "individuals " + id + " --generation 0 --json").out;
+  std::vector<double> sampled;
+  const std::regex pair(R"re("genes":\s*\[([-+0-9.eE]+),\s*([-+0-9.eE]+)\])re");
+  for (auto it = std::sregex_iterator(first.begin(), first.end(), pair);
+       it != std::sregex_iterator(); ++it)
+    for (int g = 1; g <= 2; ++g) sampled.push_back(std::stod((*it)[g].str()));
+  ASSERT_EQ(sampled.size(), 24u) << first;
+  std::sort(sampled.begin(), sampled.end());
+  EXPECT_GE(sampled.front(), 0.001);
+  EXPECT_LE(sampled.back(), 1.0);
+  // Centred on the geometric middle (0.032), not the linear one (0.5).
+  EXPECT_LT(sampled[12], 0.1) << first;
+  // The sphere's optimum in units: 0.6 and 0.4 of each range (workers/objectives/analytic.cc).
+  const std::string hof = RunCommand(cli + "hof " + id + " --json").out;
+  ASSERT_TRUE(std::regex_search(hof, m, pair)) << hof;
+  EXPECT_NEAR(std::stod(m[1].str()), 0.001 + 0.6 * 0.999, 0.01) << hof;
+  EXPECT_NEAR(std::stod(m[2].str()), 0.001 + 0.4 * 0.999, 0.01) << hof;
 }
 
 // The private coordinator and workers of `gaitforge local` die with it however it ends
