@@ -163,7 +163,7 @@ class Coordinator {
   struct Delivery {
     LeaseDone done;
     absl::Status error;
-    std::vector<Granted> granted;
+    std::vector<Granted> granted = {};
     int64_t lease_ms = 0;
   };
   // The waiter's answer if it has one now; `final`: answer even with no jobs.

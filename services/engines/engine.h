@@ -25,7 +25,7 @@ struct Evaluation {
   double violation = 0.0;
   // A multi-objective engine's objectives (nsga2), each "higher is better", from the
   // metrics the study's spec names; empty for the single-objective engines.
-  std::vector<double> objectives;
+  std::vector<double> objectives = {};
 };
 
 struct Candidate {
@@ -51,7 +51,7 @@ struct Bounds {
   std::vector<double> lo;
   std::vector<double> hi;
   // Empty, or one per gene: true for a gene on a circle (lo and hi the same point).
-  std::vector<bool> circular;
+  std::vector<bool> circular = {};
   size_t size() const { return lo.size(); }
   bool IsCircular(size_t i) const { return i < circular.size() && circular[i]; }
   // x brought into gene i's range: clamped to [lo, hi], or for a circular gene wrapped

@@ -57,7 +57,9 @@ TEST(Circular, CmaesSamplesACircularGeneAcrossTheSeam) {
         EXPECT_GE(g, 0.0);
         EXPECT_LE(g, 1.0);
         if (g < 0.1) ++across;
-        if (circular) EXPECT_LT(g, 1.0);
+        if (circular) {
+          EXPECT_LT(g, 1.0);
+        }
       }
     }
     if (circular) EXPECT_GT(across, 5);
