@@ -105,7 +105,7 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
     if (IsNuisance(*info, b.name()) || !ranges[i].ok()) continue;
     const double lo = std::max(b.lo(), ranges[i].lo);
     const double hi = std::min(b.hi(), ranges[i].hi);
-    if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi);
+    if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi, b.log());
   }
   return absl::OkStatus();
 }

@@ -124,6 +124,12 @@ void ValidateRobust(const gaitforge::v1::StudySpec& spec, const core::ObjectiveI
     const std::string path = absl::StrCat("objective.robust.parameters[", i, "]");
     if (!std::isfinite(p.lo()) || !std::isfinite(p.hi()) || !(p.lo() <= p.hi()))
       e.push_back({path, absl::StrCat("needs finite lo <= hi; got lo = ", p.lo(), ", hi = ", p.hi())});
+    else if (p.log() && !(p.lo() > 0))
+      e.push_back({path + ".log", absl::StrCat("needs lo > 0 (sampled by its logarithm); got lo = ",
+                                               p.lo())});
+    else if (p.circular())
+      e.push_back({path + ".circular", "an ensemble range is sampled, not searched: circular "
+                                       "applies to bounds only"});
     else if (std::string bad = RangeError(**robot, p.name(), p.lo(), p.hi()); !bad.empty())
       e.push_back({path + ".name", bad});
   }

@@ -73,8 +73,11 @@ std::vector<EnsembleMember> Members(const EnsembleSpec& spec) {
     std::iota(order.begin(), order.end(), 0);
     for (int i = m - 1; i > 0; --i) std::swap(order[i], order[rng.UniformInt(0, i)]);
     const EnsembleRange& r = spec.parameters[j];
-    for (int i = 0; i < m; ++i)
-      members[i].values.push_back(r.lo + (order[i] + rng.Uniform01()) / m * (r.hi - r.lo));
+    const double lo = r.log ? std::log(r.lo) : r.lo, hi = r.log ? std::log(r.hi) : r.hi;
+    for (int i = 0; i < m; ++i) {
+      const double x = lo + (order[i] + rng.Uniform01()) / m * (hi - lo);
+      members[i].values.push_back(r.log ? std::clamp(std::exp(x), r.lo, r.hi) : x);
+    }
   }
   return members;
 }

@@ -17,6 +17,7 @@ enum class Statistic { kMean, kQuantile, kMeanMinusSd };
 struct EnsembleRange {
   std::string name;
   double lo = 0, hi = 0;
+  bool log = false;  // sampled uniformly in ln x over [ln lo, ln hi] (needs lo > 0)
 };
 
 struct EnsembleSpec {

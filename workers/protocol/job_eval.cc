@@ -9,7 +9,7 @@ objectives::EnsembleSpec EnsembleOf(const v1::Robustness& r) {
   objectives::EnsembleSpec e;
   e.members = r.members();
   e.numerics.assign(r.numerics().begin(), r.numerics().end());
-  for (const auto& p : r.parameters()) e.parameters.push_back({p.name(), p.lo(), p.hi()});
+  for (const auto& p : r.parameters()) e.parameters.push_back({p.name(), p.lo(), p.hi(), p.log()});
   e.start_phases = r.start_phases();
   objectives::ParseStatistic(r.statistic(), &e.statistic);  // validated with the spec
   e.quantile = r.quantile();

@@ -57,6 +57,20 @@ TEST(FromCalibration, ALogGenesRangeIsTwoLogSpaceSdEachSide) {
   EXPECT_LT(SpreadRanges({x}, {x * std::sinh(s)})[0].lo, 0.0);  // unmarked: linear
 }
 
+// The ensemble samples a gene the calibration searched by its logarithm the same way: its
+// range keeps the mark, so a softness fitted at 3e-6 with a range up to 5e-5 is not sampled
+// mostly near the top of that range.
+TEST(FromCalibration, ALogGenesEnsembleRangeIsSampledByItsLogarithm) {
+  v1::StudySpec c = Calibration("caterpillar.calibration");
+  c.mutable_bounds(1)->set_log(true);
+  v1::StudySpec g = Gait(true);
+  ASSERT_TRUE(ApplyCalibration("cal-1", c, kBest, SpreadRanges(kBest, kSpread), &g).ok());
+  ASSERT_EQ(g.objective().robust().parameters_size(), 2);
+  EXPECT_FALSE(g.objective().robust().parameters(0).log());
+  EXPECT_EQ(g.objective().robust().parameters(1).name(), "scale.link_stiffness");
+  EXPECT_TRUE(g.objective().robust().parameters(1).log());
+}
+
 TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay) {
   v1::StudySpec g = Gait(false);
   ASSERT_TRUE(ApplyCalibration("cal-1", Calibration("caterpillar.calibration"), kBest, {}, &g).ok());

@@ -54,6 +54,32 @@ TEST(Ensemble, EachParameterUsesEveryStratumOnceAndDependsOnlyOnTheSeed) {
   EXPECT_NE(Members(other)[0].values[0], a[0].values[0]);
 }
 
+// A range marked log (a calibration's gene searched by its logarithm, spanning decades) is
+// stratified in ln x: each decade of [1e-5, 1e-1] holds a quarter of the members, where a
+// linear sample would put 90% of them in the top decade.
+TEST(Ensemble, ALogRangeIsStratifiedInItsLogarithm) {
+  EnsembleSpec s;
+  s.members = 16;
+  s.parameters = {{"effect.contact_slip_m_per_n_s", 1e-5, 1e-1, true}};
+  s.seed = 7;
+  std::vector<int> per_decade(4, 0);
+  std::set<int> strata;
+  for (const EnsembleMember& m : Members(s)) {
+    const double x = m.values[0];
+    ASSERT_GE(x, 1e-5);
+    ASSERT_LE(x, 1e-1);
+    const double u = (std::log(x) - std::log(1e-5)) / (std::log(1e-1) - std::log(1e-5));
+    strata.insert(std::min(15, static_cast<int>(u * 16)));
+    ++per_decade[std::min(3, static_cast<int>(u * 4))];
+  }
+  EXPECT_EQ(strata.size(), 16u);
+  EXPECT_THAT(per_decade, ::testing::ElementsAre(4, 4, 4, 4));
+  s.parameters[0].log = false;  // the same stream, linear: most members in the top decade
+  int top = 0;
+  for (const EnsembleMember& m : Members(s)) top += m.values[0] >= 1e-2;
+  EXPECT_GE(top, 14);
+}
+
 TEST(Ensemble, StatisticsAreMeanLowerQuantileAndMeanMinusKSd) {
   EnsembleSpec s;
   const std::vector<double> v = {4, 1, 3, 2};

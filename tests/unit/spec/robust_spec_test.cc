@@ -60,6 +60,10 @@ TEST(RobustSpec, BadValuesNameTheirFieldAndRange) {
   EXPECT_THAT(Error("    numerics: [\"simulation.timestep_s=0.5\"]\n"),
               HasSubstr("field 'objective.robust.numerics[0]'"));
   EXPECT_THAT(Error("    numerics: [fast]\n"), HasSubstr("must be NAME=VALUE"));
+  EXPECT_THAT(Error("    parameters:\n      - {name: ground.contact_cfm, lo: 0, hi: 1e-3, log: true}\n"),
+              HasSubstr("field 'objective.robust.parameters[0].log' needs lo > 0"));
+  EXPECT_THAT(Error("    parameters:\n      - {name: scale.mass, lo: 0.8, hi: 1.2, circular: true}\n"),
+              HasSubstr("field 'objective.robust.parameters[0].circular'"));
   EXPECT_THAT(Error("    members: 2\n", "analytic.sphere"),
               HasSubstr("analytic.sphere takes no robust evaluation; objectives that do: "
                         "caterpillar.distance, robot.distance"));
@@ -69,9 +73,11 @@ TEST(RobustSpec, AValidEnsembleIsAccepted) {
   auto spec = Load(
       "    members: 8\n    numerics: [\"\", \"ground.contact_cfm=3e-5\"]\n"
       "    parameters:\n      - {name: scale.link_stiffness, lo: 0.8, hi: 1.25}\n"
+      "      - {name: ground.contact_cfm, lo: 1e-6, hi: 1e-3, log: true}\n"
       "    statistic: mean_minus_sd\n    k: 0.5\n");
   ASSERT_TRUE(spec.ok()) << spec.status();
   EXPECT_EQ(spec->objective().robust().members(), 8);
+  EXPECT_TRUE(spec->objective().robust().parameters(1).log());
 }
 
 // The caterpillar's 13 genes with the period marked circular, or a phase over half a cycle.
