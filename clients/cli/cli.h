@@ -2,6 +2,7 @@
 // Shared pieces of the gaitforge command-line client.
 #include <grpcpp/grpcpp.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -223,6 +224,22 @@ int ReadDiagnosisSpec(const std::string& path, v1::DiagnosisSpec* d);
 // ("": plan.json beside the report).
 int CmdDiagnosePlan(const GlobalOptions& g, const std::vector<std::string>& args,
                     const diagnosis::plan::Options& p, const std::string& output);
+// Starts workers against conn's coordinator, runs `start` (which returns the study id, or ""
+// after printing an error and setting *start_code), watches the study to its end, then
+// drains the workers; with a non-empty out_dir, draws the study's figures there.
+int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, int threads,
+                        const std::string& out_dir,
+                        const std::function<std::string(v1::StudyService::Stub&)>& start,
+                        int* start_code);
+// `validate ID`: a robust study's gaits over a fresh ensemble (validate.cc).
+struct ValidateOptions {
+  int members = 0;        // 0: four times the study's ensemble (at most 256)
+  uint64_t seed = 0;      // 0: the study's ensemble seed + 1
+  int top = 0;            // hall-of-fame gaits to validate; 0: all
+  std::string gaits;      // a file of gaits instead of the hall of fame
+};
+int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+                int threads, const ValidateOptions& v);
 // Starts local worker processes against target (logs next to the database).
 std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
                                      int threads);

@@ -78,6 +78,19 @@ std::vector<CommandHelp> Build() {
        "limit (a warning on stderr when it exceeds it).",
        Connection({"output", "rank", "generation", "rate", "cycles"}),
        "gaitforge export paper-ga-1c2d3e --rank 0 --rate 200 --cycles 5 --output gait.csv"},
+      {"validate", "ID",
+       "a robust study's gaits over a fresh ensemble its selection never saw\n"
+       "                  (--members M, --ensemble-seed S, --top N or --gaits FILE)",
+       "Evaluates the hall of fame of robust study ID (its first --top N gaits, or the gaits\n"
+       "of --gaits FILE, one per line) again, each over a fresh ensemble: the study's own\n"
+       "objective and ranges, --members M members (default 4x the study's) drawn from\n"
+       "--ensemble-seed S (default the study's ensemble seed + 1). The study ranked every gait\n"
+       "on the same few members, so the mean of the gaits it kept is optimistic; the fresh\n"
+       "mean is not. Runs as a study of its own (a sweep, one level per gait; local workers,\n"
+       "or --coordinator's) and prints RANK FITNESS PREDICTED VALIDATED [MIN, MAX] SD per gait\n"
+       "(--json: each gait's genes and validated mean, sd, min, max).",
+       Connection({"members", "ensemble-seed", "top", "gaits", "workers", "threads", "json"}),
+       "gaitforge validate robust-walk-1c2d3e --members 24 --top 5"},
       {"diagnose", "SPEC",
        "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"
        "                  fit it and show the held-out error fall (docs/diagnosis.md)",

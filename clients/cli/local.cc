@@ -47,8 +47,8 @@ v1::StudySummary Summary(Connection& conn, const std::string& id, const GlobalOp
   return s;
 }
 
-// Starts workers against `target`, runs `start` (which returns the study id, or "" after
-// printing an error), watches the study to its end, then drains the workers.
+}  // namespace
+
 int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, int threads,
                         const std::string& out_dir,
                         const std::function<std::string(v1::StudyService::Stub&)>& start,
@@ -66,7 +66,7 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   const int code = WatchUntilDone(conn.study(), id, g, 30 * 24 * 3600.0);
   // Workers drain their batch to the coordinator; without one there is nothing to drain.
   for (pid_t p : pids) Stop(p, code == kUnavailable ? 1 : 10);
-  if (code == kOk) {
+  if (code == kOk && !out_dir.empty()) {
     std::vector<std::string> figures;
     const v1::StudySummary study = Summary(conn, id, g);
     if (PlotStudy(conn.study(), id, out_dir, g, &figures) == kOk)
@@ -74,13 +74,11 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
     if (!g.json)
       for (const auto& f : figures) std::cerr << "wrote " << f << "\n";
   }
-  if (!g.json && code == kOk)
+  if (!g.json && code == kOk && !out_dir.empty())
     std::cerr << "next: gaitforge history " << id << " | gaitforge hof " << id
               << " | gaitforge show " << id << "\n";
   return code;
 }
-
-}  // namespace
 
 std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
                                      int threads) {

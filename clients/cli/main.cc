@@ -54,6 +54,16 @@ int main(int argc, char** argv) {
   flags.Add("rank", &rank, "trajectory/export: hall-of-fame rank (0 = best)");
   flags.Add("rate", &rate, "trajectory: marker sampling rate; export: command rate, Hz");
   flags.Add("cycles", &cycles, "trajectory: measured gait cycles; export: cycles written");
+  cli::ValidateOptions validate;
+  int64_t validate_seed = 0;
+  flags.Add("members", &validate.members,
+            "validate: members of the fresh ensemble (default: 4x the study's, at most 256)");
+  flags.Add("ensemble-seed", &validate_seed,
+            "validate: the fresh ensemble's seed (default: the study's ensemble seed + 1)");
+  flags.Add("top", &validate.top, "validate: the first N hall-of-fame gaits (default: all)");
+  flags.Add("gaits", &validate.gaits,
+            "validate: a file of gaits to validate instead, one per line (genes separated by "
+            "spaces or commas)");
   std::string dashboard = "127.0.0.1:0";
   flags.Add("dashboard", &dashboard,
             "local/resume/diagnose/dashboard: serve the web dashboard at HOST:PORT (port 0: any "
@@ -118,6 +128,14 @@ int main(int argc, char** argv) {
   }
   if (cmd == "resume") return cli::CmdResume(g, args, workers, threads, out_dir);
   if (cmd == "cancel") return cli::CmdCancel(g, args);
+  if (cmd == "validate") {
+    if (validate_seed < 0 || validate.members < 0 || validate.members > 256 || validate.top < 0) {
+      std::cerr << "gaitforge: validate: --ensemble-seed >= 0, --members in [0, 256], --top >= 0\n";
+      return cli::kUsage;
+    }
+    validate.seed = static_cast<uint64_t>(validate_seed);
+    return cli::CmdValidate(g, args, workers, threads, validate);
+  }
   if (cmd == "plot") return cli::CmdPlot(g, args, out_dir);
   if (cmd == "diagnose" && !args.empty() && args[0] == "plan") {
     plan.threads = workers;

@@ -13,7 +13,6 @@
 namespace gaitforge::spec {
 namespace {
 
-constexpr int kMaxMembers = 256;
 constexpr int kMaxStartPhases = 64;
 constexpr double kMaxK = 10;
 
@@ -100,9 +99,9 @@ void ValidateRobust(const gaitforge::v1::StudySpec& spec, const core::ObjectiveI
                                                   "objectives that do: ", Objectives())});
     return;
   }
-  if (r.members() < 1 || r.members() > kMaxMembers)
+  if (r.members() < 1 || r.members() > kMaxEnsembleMembers)
     e.push_back({"objective.robust.members",
-                 absl::StrCat("= ", r.members(), " is out of range [1, ", kMaxMembers, "]")});
+                 absl::StrCat("= ", r.members(), " is out of range [1, ", kMaxEnsembleMembers, "]")});
   if (r.start_phases() < 1 || r.start_phases() > kMaxStartPhases)
     e.push_back({"objective.robust.start_phases",
                  absl::StrCat("= ", r.start_phases(), " is out of range [1, ", kMaxStartPhases, "]")});

@@ -8,6 +8,9 @@
 
 namespace gaitforge::spec {
 
+// The largest ensemble objective.robust.members allows.
+constexpr int kMaxEnsembleMembers = 256;
+
 // Fills what objective.robust may leave out: seed (the study's), statistic mean, quantile
 // 0.25, k 1, start_phases 1, "standard" numerics (the robot's, robots/numerics.h) and
 // members (one per numeric variant and start phase). No-op without objective.robust.

@@ -45,7 +45,7 @@ TEST(CliDocs, EachCommandHasItsOwnHelpWithAnExample) {
   const std::string global = RunCommand(Bin("gaitforge") + " --help").out;
   for (const char* command : {"local", "submit", "watch", "list", "show", "hof", "history",
                               "individuals", "plot", "report", "trajectory", "diagnose",
-                              "recording", "resume", "cancel", "health"}) {
+                              "recording", "resume", "cancel", "health", "validate"}) {
     auto help = RunCommand(Bin("gaitforge") + " " + command + " --help");
     EXPECT_EQ(help.exit_code, 0) << command;
     EXPECT_EQ(help.out.rfind(std::string("usage: gaitforge ") + command, 0), 0u) << help.out;

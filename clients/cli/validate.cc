@@ -1,0 +1,209 @@
+// `gaitforge validate ID`: a robust study's gaits evaluated again over a fresh ensemble, one
+// its selection never saw (services/spec/validation_spec.h; docs/objectives.md,
+// "Validation"), as a study of its own: one sweep level per gait, run by local workers or
+// by --coordinator's, stored beside the study.
+#include <cmath>
+#include <iostream>
+#include <limits>
+
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "clients/cli/cli.h"
+#include "services/core/file_text.h"
+#include "services/spec/validation_spec.h"
+
+namespace gaitforge::cli {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Row {
+  int rank = 0;                // hall-of-fame rank, or line order in --gaits
+  std::vector<double> genes;
+  double fitness = kNaN;       // the study's (hall-of-fame gaits only)
+  double predicted = kNaN;     // the study's ensemble mean (hall-of-fame gaits only)
+  v1::Evaluation validated;
+};
+
+double Metric(const v1::Evaluation& e, const std::string& name) {
+  return e.metrics().count(name) ? e.metrics().at(name) : kNaN;
+}
+
+// The gaits: --gaits FILE's lines, or the hall of fame's first --top entries.
+int CollectGaits(Connection& conn, const GlobalOptions& g, const std::string& id,
+                 const v1::StudySpec& study, const ValidateOptions& v, std::vector<Row>* rows) {
+  if (!v.gaits.empty()) {
+    auto text = core::ReadWholeFile(v.gaits);
+    if (!text.ok()) {
+      std::cerr << "gaitforge: validate: --gaits: " << text.status().message() << "\n";
+      return kUsage;
+    }
+    auto gaits = spec::ParseGaits(*text, v.gaits, study.bounds_size());
+    if (!gaits.ok()) {
+      std::cerr << "gaitforge: validate: " << gaits.status().message() << "\n";
+      return kUsage;
+    }
+    for (size_t i = 0; i < gaits->size(); ++i) {
+      rows->emplace_back();
+      rows->back().rank = static_cast<int>(i);
+      rows->back().genes = (*gaits)[i];
+    }
+    return kOk;
+  }
+  auto hof = Hof(conn.study(), id, -1, g);
+  if (!hof.ok()) return HofError(hof.status(), "validate " + id);
+  for (const auto& e : hof->entries()) {
+    if (v.top > 0 && static_cast<int>(rows->size()) == v.top) break;
+    const auto& ind = e.individual();
+    if (!ind.evaluation().valid()) continue;
+    Row& row = rows->emplace_back();
+    row.rank = e.rank();
+    row.genes.assign(ind.genes().begin(), ind.genes().end());
+    row.fitness = ind.evaluation().fitness();
+    row.predicted = Metric(ind.evaluation(), "robust.mean");
+  }
+  if (rows->empty()) {
+    std::cerr << "gaitforge: validate: study " << id << "'s hall of fame holds no valid gait\n";
+    return kFailed;
+  }
+  return kOk;
+}
+
+// Creates the validation study and runs it to its end; its id in *vid.
+int RunValidation(const GlobalOptions& g, Connection& conn, int workers, int threads,
+                  const v1::StudySpec& spec, std::string* vid) {
+  GlobalOptions quiet = g;
+  quiet.json = false;  // progress on stderr; stdout keeps this command's own output
+  int start_code = kOk;
+  auto start = [&](v1::StudyService::Stub& stub) -> std::string {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::CreateStudyRequest req;
+    *req.mutable_spec() = spec;
+    v1::CreateStudyResponse resp;
+    grpc::Status s = stub.CreateStudy(&ctx, req, &resp);
+    if (!s.ok()) {
+      start_code = ReportRpcError(s, "create the validation study");
+      return "";
+    }
+    return *vid = resp.study().study_id();
+  };
+  if (g.coordinator.empty())
+    return RunWithLocalWorkers(quiet, conn, workers, threads, "", start, &start_code);
+  if (start(conn.study()).empty()) return start_code;
+  return WatchUntilDone(conn.study(), *vid, quiet, 30 * 24 * 3600.0);
+}
+
+// Each row's evaluation in the validation study (member i is level i, gait i).
+int ReadValidation(Connection& conn, const GlobalOptions& g, const std::string& vid,
+                   std::vector<Row>* rows) {
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, g.timeout_s);
+  v1::ListIndividualsRequest req;
+  req.set_study_id(vid);
+  req.set_generation(0);
+  v1::ListIndividualsResponse resp;
+  if (grpc::Status s = conn.study().ListIndividuals(&ctx, req, &resp); !s.ok())
+    return ReportRpcError(s, "individuals of " + vid);
+  for (const auto& ind : resp.individuals()) {
+    if (ind.member() < 0 || ind.member() >= static_cast<int>(rows->size())) continue;
+    Row& row = (*rows)[ind.member()];
+    for (int j = 0; j < ind.genes_size(); ++j)
+      if (std::abs(ind.genes(j) - row.genes[j]) > 1e-9 * (1 + std::abs(row.genes[j]))) {
+        std::cerr << "gaitforge: validate: " << vid << "'s member " << ind.member()
+                  << " is not gait " << ind.member() + 1 << "\n";
+        return kFailed;
+      }
+    row.validated = ind.evaluation();
+  }
+  return kOk;
+}
+
+std::string Num(double x) { return std::isfinite(x) ? absl::StrFormat("%.17g", x) : "null"; }
+
+void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpec& spec,
+               const std::vector<Row>& rows) {
+  std::cout << "{\"study_id\": " << JsonQuote(id) << ", \"validation_study_id\": " << JsonQuote(vid)
+            << ", \"members\": " << spec.objective().robust().members()
+            << ", \"seed\": " << spec.objective().robust().seed() << ", \"gaits\": [";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    const v1::Evaluation& e = r.validated;
+    std::vector<std::string> genes;
+    for (double x : r.genes) genes.push_back(Num(x));
+    std::cout << (i ? ", " : "") << "{\"rank\": " << r.rank << ", \"genes\": ["
+              << absl::StrJoin(genes, ", ") << "], \"fitness\": " << Num(r.fitness)
+              << ", \"predicted\": " << Num(r.predicted) << ", \"valid\": "
+              << (e.valid() ? "true" : "false") << ", \"reason\": " << JsonQuote(e.reason())
+              << ", \"validated\": {\"fitness\": " << Num(e.valid() ? e.fitness() : kNaN);
+    for (const char* m : {"mean", "sd", "min", "max"})
+      std::cout << ", \"" << m << "\": " << Num(Metric(e, std::string("robust.") + m));
+    std::cout << "}}";
+  }
+  std::cout << "]}\n";
+}
+
+void PrintTable(const std::string& id, const std::string& vid, const v1::StudySpec& spec,
+                const std::vector<Row>& rows) {
+  std::cout << "gaits of " << id << " over a fresh ensemble of "
+            << spec.objective().robust().members() << " members (seed "
+            << spec.objective().robust().seed() << "): study " << vid << "\n"
+            << absl::StrFormat("%4s %12s %12s  %-34s %10s\n", "RANK", "FITNESS", "PREDICTED",
+                               "VALIDATED MEAN [MIN, MAX]", "SD");
+  double predicted = 0, validated = 0;
+  int both = 0;
+  for (const Row& r : rows) {
+    const v1::Evaluation& e = r.validated;
+    const std::string mean =
+        e.valid() ? absl::StrFormat("%.4g [%.4g, %.4g]", Metric(e, "robust.mean"),
+                                    Metric(e, "robust.min"), Metric(e, "robust.max"))
+                  : "invalid: " + e.reason().substr(0, 60);
+    std::cout << absl::StrFormat("%4d %12.6g %12.6g  %-34s %10.4g\n", r.rank, r.fitness, r.predicted,
+                                 mean, Metric(e, "robust.sd"));
+    if (e.valid() && std::isfinite(r.predicted)) {
+      predicted += r.predicted;
+      validated += Metric(e, "robust.mean");
+      ++both;
+    }
+  }
+  if (both > 0 && predicted != 0)
+    std::cout << absl::StrFormat(
+        "validated / predicted over %d gaits: %.3f (the study's ensemble mean of the gaits it "
+        "kept, against the fresh ensemble's)\n", both, validated / predicted);
+}
+
+}  // namespace
+
+int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
+                int threads, const ValidateOptions& v) {
+  if (args.size() != 1) {
+    std::cerr << "gaitforge: usage: gaitforge validate STUDY_ID [--members M] [--ensemble-seed S] "
+                 "[--top N | --gaits FILE]\n";
+    return kUsage;
+  }
+  int code = kOk;
+  auto conn = Connect(g, true, &code);
+  if (!conn) return code;
+  v1::StudySummary study;
+  if (grpc::Status s = FetchStudy(conn->study(), g, args[0], &study); !s.ok())
+    return ReportRpcError(s, "validate " + args[0]);
+  std::vector<Row> rows;
+  if (int c = CollectGaits(*conn, g, args[0], study.spec(), v, &rows); c) return c;
+  spec::ValidationRequest req{args[0], {}, v.members, v.seed};
+  for (const Row& r : rows) req.gaits.push_back(r.genes);
+  auto spec = spec::ValidationSpec(study.spec(), req);
+  if (!spec.ok()) {
+    std::cerr << "gaitforge: validate: " << spec.status().message() << "\n";
+    return kUsage;
+  }
+  std::string vid;
+  if (int c = RunValidation(g, *conn, workers, threads, *spec, &vid); c) return c;
+  if (int c = ReadValidation(*conn, g, vid, &rows); c) return c;
+  if (g.json)
+    PrintJson(args[0], vid, *spec, rows);
+  else
+    PrintTable(args[0], vid, *spec, rows);
+  return kOk;
+}
+
+}  // namespace gaitforge::cli

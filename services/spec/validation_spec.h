@@ -1,0 +1,41 @@
+#pragma once
+// The spec of a validation study (docs/objectives.md, "Validation"): gaits a robust study
+// chose, evaluated once each over a fresh ensemble, one its selection never saw. A robust
+// study ranks every genotype on the same few members (common random numbers), so the
+// gaits it keeps are those that happen to do well on those members: their ensemble mean
+// is optimistic, the more so the fewer the members and the more genotypes it compared.
+// The fresh ensemble's mean is a prediction without that selection.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "gaitforge/v1/study.pb.h"
+
+namespace gaitforge::spec {
+
+struct ValidationRequest {
+  std::string study_id;                     // the study validated (names the new one)
+  std::vector<std::vector<double>> gaits;   // genotypes in the study's gene space
+  int members = 0;                          // 0: four times the study's, at most 256
+  uint64_t seed = 0;                        // 0: the study's ensemble seed + 1
+};
+
+// The members and seed a request resolves to for `study` (its defaults filled).
+int ValidationMembers(const v1::StudySpec& study, int members);
+uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed);
+
+// A one-generation factorial sweep whose single factor `gait` has one level per gait
+// (every gene set), with the study's objective (its stored, resolved model) and the
+// ensemble's members and seed replaced. Refused: a study without objective.robust, no
+// gaits, a gait of the wrong length or outside the bounds, a seed equal to the study's.
+absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
+                                             const ValidationRequest& request);
+
+// Gaits from a text file: one per line, genes separated by spaces or commas ('#' starts a
+// comment); errors name the file and line.
+absl::StatusOr<std::vector<std::vector<double>>> ParseGaits(const std::string& text,
+                                                            const std::string& path,
+                                                            int genes);
+
+}  // namespace gaitforge::spec
