@@ -82,7 +82,7 @@ struct Experiment {
   std::vector<double> genes;
   int cycles = 1;
   int source = -1;
-  InputVariant inputs;
+  InputVariant inputs{};
 };
 
 // The candidates: each recorded gait as it was and run three times as long; with its period

@@ -34,7 +34,7 @@ struct Mlp {
   Eigen::VectorXd in_mean, in_sd, out_mean, out_sd;
   // The training rows' range of each input; an input outside it is held at its edge, so
   // that the net never extrapolates (a rate it never saw). Empty: no range.
-  Eigen::VectorXd in_min, in_max;
+  Eigen::VectorXd in_min{}, in_max{};
 
   // The outputs for x (inputs.size() values, in order).
   Eigen::VectorXd Eval(const Eigen::VectorXd& x) const;

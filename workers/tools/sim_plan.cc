@@ -119,8 +119,8 @@ struct Scored {
   plan::Experiment e;
   double period_s = 0;  // 0: a playback
   double duration_s = 0;
-  std::vector<double> separation;  // per pair, the channels' pooled RMS difference
-  std::string reason;              // why a simulation failed ("" when none did)
+  std::vector<double> separation{};  // per pair, the channels' pooled RMS difference
+  std::string reason{};            // why a simulation failed ("" when none did)
 };
 
 // Pooled RMS difference of a and b over the compared channels after the first cycle, each

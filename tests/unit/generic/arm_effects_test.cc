@@ -24,7 +24,7 @@ const robots::RobotDescriptor& Arm() { return robots::Robot("continuum_arm"); }
 struct ArmRun {
   bool ok = true;
   std::string reason;
-  std::vector<double> angle;  // j3.angle1 over time
+  std::vector<double> angle{};  // j3.angle1 over time
   double tip_x = 0;
 };
 

@@ -113,9 +113,13 @@ TEST(CaterpillarEvaluation, CatalogDefaultsAreTheDescriptors) {
     const core::ObjectiveInfo* info = core::FindObjective(objective);
     ASSERT_NE(info, nullptr) << objective;
     for (const auto& p : info->params) {
-      if (p.name == "timestep_ms") EXPECT_DOUBLE_EQ(p.default_value * 1e-3, d.Value("simulation.timestep_s"));
-      if (p.name == "settle_cycles") EXPECT_EQ(p.default_value, d.Value("simulation.settle_cycles"));
-      if (p.name == "cycles") EXPECT_EQ(p.default_value, d.Value("simulation.measured_cycles"));
+      if (p.name == "timestep_ms") {
+        EXPECT_DOUBLE_EQ(p.default_value * 1e-3, d.Value("simulation.timestep_s"));
+      } else if (p.name == "settle_cycles") {
+        EXPECT_EQ(p.default_value, d.Value("simulation.settle_cycles"));
+      } else if (p.name == "cycles") {
+        EXPECT_EQ(p.default_value, d.Value("simulation.measured_cycles"));
+      }
     }
   }
 }

@@ -28,8 +28,12 @@ class ContinuumArmTest : public ::testing::Test {
 std::unique_ptr<GenericWorld> Hold(const std::vector<double>& f, double seconds, bool gravity,
                                    double max = 0) {
   ParamValues v(Arm());
-  if (!gravity) EXPECT_TRUE(v.Set("simulation.gravity_m_per_s2", 0).ok());
-  if (max > 0) EXPECT_TRUE(v.Set("rods.max_force_n", max).ok());
+  if (!gravity) {
+    EXPECT_TRUE(v.Set("simulation.gravity_m_per_s2", 0).ok());
+  }
+  if (max > 0) {
+    EXPECT_TRUE(v.Set("rods.max_force_n", max).ok());
+  }
   auto w = GenericWorld::Build(Arm(), v, 0);
   EXPECT_TRUE(w.ok()) << w.status();
   if (!w.ok()) return nullptr;

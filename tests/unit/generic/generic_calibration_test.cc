@@ -193,8 +193,9 @@ TEST_F(GenericCalibrationTest, BadGenesAndRecordingsAreReasons) {
 TEST_F(GenericCalibrationTest, EffectsApplyWhereTheRobotHasTheirParts) {
   const auto& cat = robots::Robot("caterpillar");
   for (const auto& e : effects::EffectCatalog())
-    if (!e.params.empty() && e.attaches != "servos" && e.attaches != "bending_joints")
+    if (!e.params.empty() && e.attaches != "servos" && e.attaches != "bending_joints") {
       EXPECT_EQ(effects::WhyNotApplicable(e, cat), "") << e.id;
+    }
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("servo.deadband"), cat),
               HasSubstr("it attaches to servos, which caterpillar lacks"));
   EXPECT_THAT(effects::WhyNotApplicable(*effects::FindEffect("actuator.deadband"), robots::Robot("walker")),

@@ -74,7 +74,9 @@ void ExpectCantilever(const robots::RobotDescriptor& d, const std::string& bent,
     for (int j = i; j < n; ++j) tau += m * g * ((j + 0.5) * L - i * L);
     const std::string joint = "j" + std::to_string(i + 1);
     EXPECT_NEAR(std::fabs(*(*w)->Channel(joint + "." + bent)), tau / k, 0.01 * tau / k) << joint;
-    if (!straight.empty()) EXPECT_NEAR(*(*w)->Channel(joint + "." + straight), 0, 1e-6) << joint;
+    if (!straight.empty()) {
+      EXPECT_NEAR(*(*w)->Channel(joint + "." + straight), 0, 1e-6) << joint;
+    }
     drop += tau / k * (n * L - i * L);
   }
   EXPECT_NEAR(v("height_m") - *(*w)->Channel("tip.z"), drop, 0.02 * drop);
