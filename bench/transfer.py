@@ -31,7 +31,9 @@ For each study and set (the 20 best distinct gaits of the whole study; 20 distin
 spread over the final population's ranks) it prints the ratio of achieved to predicted
 travel (sums over the set; predicted = the study's fitness, or for a robust study the
 ensemble mean, robust.mean), the Spearman rank correlation of predicted and achieved
-travel, and the best gait's achieved travel.
+travel, and the best gait's achieved travel. --validate M also predicts each robust
+study's gaits over a fresh ensemble of M members (`gaitforge validate`: one the study's
+selection never saw) and prints the ratio and correlation against that prediction too.
 
     /usr/bin/python3 bench/transfer.py [--bin build/bin] [--population 100]
         [--generations 30] [--builds rig2d,mujoco] [--diagnose] [--quick]
@@ -196,6 +198,30 @@ def measure(sets, where, cycles):
         achieved.update({(build,) + run: a for run, a in zip(runs, out)})
         print(f"{build}: {len(runs)} runs in {time.monotonic() - t0:.0f} s", flush=True)
     return achieved
+
+
+def validate(args, db, study, sets):
+    """Each gait of `sets` (kind -> [(predicted, genes)]) of robust study `study` over a
+    fresh ensemble of --validate members (`gaitforge validate`); kind -> validated means."""
+    gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
+    studies = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
+                                        check=True).stdout)["studies"]
+    ident = next(s["study_id"] for s in studies if s["spec"]["name"] == study)
+    out = {}
+    for kind, gaits in sets.items():
+        path = os.path.join(args.out, f"{study}-{kind}.gaits")
+        with open(path, "w") as f:
+            f.writelines(" ".join(repr(x) for x in genes) + "\n" for _, genes in gaits)
+        t0 = time.monotonic()
+        r = subprocess.run(gf + ["validate", ident, "--gaits", path, "--members", str(args.validate),
+                                 "--workers", "2", "--json"], capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"transfer: validate {study} {kind} failed ({r.returncode}): {r.stderr[-2000:]}")
+        rows = json.loads(r.stdout)["gaits"]
+        out[kind] = [g["validated"]["mean"] if g["valid"] else float("nan") for g in rows]
+        print(f"validated {study} {kind}: {len(rows)} gaits x {args.validate} members in "
+              f"{time.monotonic() - t0:.0f} s", flush=True)
+    return out
 
 
 def record_one(build, path, genes, effects):
@@ -380,7 +406,7 @@ def calibrate_and_evolve(args, build):
                                                       training, held_out)
         # The robust study is named for the family it starts from, so --reuse finds its own.
         study = (base if chosen == "family" else f"{base}-{chosen}") + (
-            f"-seed{args.seed}" if args.seed != 1 else "")
+            f"-seed{args.seed}" if args.seed != 1 else "") + (f"-{args.tag}" if args.tag else "")
         reused = args.reuse and completed(db, study)
         print(f"calibration {base} on {len(training)} recordings, kept {chosen}: {fit} "
               f"({time.monotonic() - t0:.0f} s; training errors at the steps: {errors})",
@@ -409,7 +435,16 @@ def ensemble_of(db, study):
     return {p["name"]: [p.get("lo", 0.0), p.get("hi", 0.0)] for p in robust.get("parameters", [])}
 
 
-def table(sets, where, achieved, walls):
+def agreement(pred, ach):
+    """(ratio of sums, Spearman rho) of achieved against predicted where both are finite."""
+    ok = np.isfinite(ach) & np.isfinite(pred)
+    rho = spearmanr(pred[ok], ach[ok]).correlation if ok.sum() > 2 else float("nan")
+    return ach[ok].sum() / pred[ok].sum(), rho
+
+
+def table(sets, where, achieved, walls, validated):
+    """One row per study, build, scenario and set; with --validate also the ratio and rho
+    against the fresh ensemble's means (validated_*; nan for a study without one)."""
     rows = []
     for study in sets:
         for build, scen in where[study]:
@@ -417,20 +452,25 @@ def table(sets, where, achieved, walls):
                 pred = np.array([p for p, _ in sets[study][kind]])
                 ach = np.array([achieved[(build, study, kind, i, scen)] for i in range(len(pred))])
                 ok = np.isfinite(ach)
-                rho = spearmanr(pred[ok], ach[ok]).correlation if ok.sum() > 2 else float("nan")
+                ratio, rho = agreement(pred, ach)
+                fresh = np.array(validated.get(study, {}).get(kind, [np.nan] * len(pred)))
+                v_ratio, v_rho = agreement(fresh, ach) if np.isfinite(fresh).any() else (np.nan,) * 2
                 rows.append({"study": study, "build": build, "scenario": scen, "set": kind,
                              "gaits": int(ok.sum()),
                              "predicted_cm": 100 * pred[ok].mean(),
                              "achieved_cm": 100 * ach[ok].mean(),
-                             "ratio": ach[ok].sum() / pred[ok].sum(), "spearman": rho,
+                             "ratio": ratio, "spearman": rho,
+                             "validated_cm": 100 * np.nanmean(fresh[ok]) if ok.any() else np.nan,
+                             "validated_ratio": v_ratio, "validated_spearman": v_rho,
                              "best_gait_cm": 100 * ach[0] if kind == "best" else float("nan"),
                              "wall_s": walls[study]})
     print(f"{'study':<44}{'build':<8}{'scenario':<22}{'set':<8}{'n':>3}{'pred cm':>9}{'real cm':>9}"
-          f"{'ratio':>7}{'rho':>7}{'best cm':>9}{'wall s':>8}")
+          f"{'ratio':>7}{'rho':>7}{'valid cm':>9}{'ratio':>7}{'rho':>7}{'best cm':>9}{'wall s':>8}")
     for r in rows:
         print(f"{r['study']:<44}{r['build']:<8}{r['scenario']:<22}{r['set']:<8}{r['gaits']:>3}"
               f"{r['predicted_cm']:>9.2f}{r['achieved_cm']:>9.2f}{r['ratio']:>7.2f}"
-              f"{r['spearman']:>7.2f}{r['best_gait_cm']:>9.2f}{r['wall_s']:>8.0f}")
+              f"{r['spearman']:>7.2f}{r['validated_cm']:>9.2f}{r['validated_ratio']:>7.2f}"
+              f"{r['validated_spearman']:>7.2f}{r['best_gait_cm']:>9.2f}{r['wall_s']:>8.0f}")
     return rows
 
 
@@ -479,6 +519,12 @@ def main():
                     help="the gait studies' seed (a study from a calibration is named -seedN "
                          "when N is not 1): one study's figures carry the hopping robot's chaos; "
                          "several seeds measure it")
+    ap.add_argument("--tag", default="",
+                    help="--calibrate: name the robust studies -TAG, so that --reuse keeps the "
+                         "calibrations and evolves anew (after a change to the ensemble, say)")
+    ap.add_argument("--validate", type=int, default=0, metavar="MEMBERS",
+                    help="also predict each robust study's gaits over a fresh ensemble of this "
+                         "many members (gaitforge validate), reported beside the study's own")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     if args.quick:
@@ -494,7 +540,9 @@ def main():
     for b in set(BUILDS) - set(builds):
         del BUILDS[b]
     os.makedirs(args.out, exist_ok=True)
-    walls, sets, where, named = {}, {}, {}, {}
+    walls, sets, where, named, validated = {}, {}, {}, {}, {}
+    check = (lambda db, study: validated.__setitem__(study, validate(args, db, study, sets[study]))
+             if args.validate else None)
     everywhere = [(b, scen) for b in BUILDS for scen in SCENARIOS]
     # paper-long: the paper's fitness for the robust study's number of simulations (6
     # members each).
@@ -509,19 +557,23 @@ def main():
             continue
         db, walls[name] = evolve(args, name, generations, robust, structural=structural)
         sets[name], where[name] = gait_sets(db, robust, args.gaits, name), everywhere
+        if robust:
+            check(db, name)
         print(f"{name}: {generations} generations in {walls[name]:.0f} s", flush=True)
     for build in BUILDS if args.diagnose else ():
         db, wall, named[build] = diagnose_and_evolve(args, build)
         if db:
             study = f"diagnosed-{build}"
             sets[study], where[study], walls[study] = gait_sets(db, True, args.gaits, study), [(build, STRONG_HOSE)], wall
+            check(db, study)
     fits = {}
     for build in BUILDS if args.calibrate else ():
         for study, db, wall, fits[study] in calibrate_and_evolve(args, build):
             sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
                                                        [(build, "nothing concealed")], wall)
+            check(db, study)
     achieved = measure(sets, where, args.cycles)
-    rows = table(sets, where, achieved, walls)
+    rows = table(sets, where, achieved, walls, validated)
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
         json.dump({"rows": rows, "population": args.population, "generations": args.generations,
                    "paper_long_generations": longer, "diagnoses": named,
