@@ -2,6 +2,7 @@
 // its selection never saw (services/spec/validation_spec.h; docs/objectives.md,
 // "Validation"), as a study of its own: one sweep level per gait, run by local workers or
 // by --coordinator's, stored beside the study.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -29,44 +30,48 @@ double Metric(const v1::Evaluation& e, const std::string& name) {
   return e.metrics().count(name) ? e.metrics().at(name) : kNaN;
 }
 
-// The gaits: --gaits FILE's lines, or the hall of fame's first --top entries.
-int CollectGaits(Connection& conn, const GlobalOptions& g, const std::string& id,
-                 const v1::StudySpec& study, const ValidateOptions& v, std::vector<Row>* rows) {
-  if (!v.gaits.empty()) {
-    auto text = core::ReadWholeFile(v.gaits);
-    if (!text.ok()) {
-      std::cerr << "gaitforge: validate: --gaits: " << text.status().message() << "\n";
-      return kUsage;
-    }
-    auto gaits = spec::ParseGaits(*text, v.gaits, study.bounds_size());
-    if (!gaits.ok()) {
-      std::cerr << "gaitforge: validate: " << gaits.status().message() << "\n";
-      return kUsage;
-    }
-    for (size_t i = 0; i < gaits->size(); ++i) {
-      rows->emplace_back();
-      rows->back().rank = static_cast<int>(i);
-      rows->back().genes = (*gaits)[i];
-    }
-    return kOk;
+// The request: study `id`, the flags, and with --gaits the file's gaits.
+int Request(const std::string& id, const v1::StudySpec& study, const ValidateOptions& v,
+            v1::StudySpec* spec) {
+  v1::Validation* r = spec->mutable_validate();
+  r->set_study_id(id);
+  r->set_members(v.members);
+  r->set_seed(v.seed);
+  r->set_top(v.top);
+  if (v.gaits.empty()) return kOk;
+  auto text = core::ReadWholeFile(v.gaits);
+  if (!text.ok()) {
+    std::cerr << "gaitforge: validate: --gaits: " << text.status().message() << "\n";
+    return kUsage;
   }
-  auto hof = Hof(conn.study(), id, -1, g);
-  if (!hof.ok()) return HofError(hof.status(), "validate " + id);
-  for (const auto& e : hof->entries()) {
-    if (v.top > 0 && static_cast<int>(rows->size()) == v.top) break;
-    const auto& ind = e.individual();
-    if (!ind.evaluation().valid()) continue;
-    Row& row = rows->emplace_back();
-    row.rank = e.rank();
-    row.genes.assign(ind.genes().begin(), ind.genes().end());
-    row.fitness = ind.evaluation().fitness();
-    row.predicted = Metric(ind.evaluation(), "robust.mean");
+  auto gaits = spec::ParseGaits(*text, v.gaits, study.bounds_size());
+  if (!gaits.ok()) {
+    std::cerr << "gaitforge: validate: " << gaits.status().message() << "\n";
+    return kUsage;
   }
-  if (rows->empty()) {
-    std::cerr << "gaitforge: validate: study " << id << "'s hall of fame holds no valid gait\n";
-    return kFailed;
-  }
+  for (const auto& g : *gaits) r->add_gaits()->mutable_genes()->Add(g.begin(), g.end());
   return kOk;
+}
+
+// One row per gait the validation study resolved to, in its order; a gait of the study's
+// hall of fame gets its rank, fitness and prediction there.
+std::vector<Row> Rows(const v1::Validation& resolved, const v1::GetHallOfFameResponse& hof) {
+  std::vector<Row> rows;
+  for (int i = 0; i < resolved.gaits_size(); ++i) {
+    Row& row = rows.emplace_back();
+    row.rank = i;
+    row.genes.assign(resolved.gaits(i).genes().begin(), resolved.gaits(i).genes().end());
+    for (const auto& e : hof.entries()) {
+      const auto& ind = e.individual();
+      if (!std::equal(ind.genes().begin(), ind.genes().end(), row.genes.begin(), row.genes.end()))
+        continue;
+      row.rank = e.rank();
+      row.fitness = ind.evaluation().fitness();
+      row.predicted = Metric(ind.evaluation(), "robust.mean");
+      break;
+    }
+  }
+  return rows;
 }
 
 // Creates the validation study and runs it to its end; its id in *vid.
@@ -187,22 +192,22 @@ int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, in
   v1::StudySummary study;
   if (grpc::Status s = FetchStudy(conn->study(), g, args[0], &study); !s.ok())
     return ReportRpcError(s, "validate " + args[0]);
-  std::vector<Row> rows;
-  if (int c = CollectGaits(*conn, g, args[0], study.spec(), v, &rows); c) return c;
-  spec::ValidationRequest req{args[0], {}, v.members, v.seed};
-  for (const Row& r : rows) req.gaits.push_back(r.genes);
-  auto spec = spec::ValidationSpec(study.spec(), req);
-  if (!spec.ok()) {
-    std::cerr << "gaitforge: validate: " << spec.status().message() << "\n";
-    return kUsage;
-  }
+  v1::StudySpec request;
+  if (int c = Request(args[0], study.spec(), v, &request); c) return c;
   std::string vid;
-  if (int c = RunValidation(g, *conn, workers, threads, *spec, &vid); c) return c;
+  if (int c = RunValidation(g, *conn, workers, threads, request, &vid); c) return c;
+  v1::StudySummary validation;
+  if (grpc::Status s = FetchStudy(conn->study(), g, vid, &validation); !s.ok())
+    return ReportRpcError(s, "validate " + args[0]);
+  auto hof = Hof(conn->study(), args[0], -1, g);
+  if (!hof.ok()) return HofError(hof.status(), "validate " + args[0]);
+  std::vector<Row> rows = Rows(validation.spec().validate(), *hof);
   if (int c = ReadValidation(*conn, g, vid, &rows); c) return c;
+  const v1::StudySpec& spec = validation.spec();
   if (g.json)
-    PrintJson(args[0], vid, *spec, rows);
+    PrintJson(args[0], vid, spec, rows);
   else
-    PrintTable(args[0], vid, *spec, rows);
+    PrintTable(args[0], vid, spec, rows);
   return kOk;
 }
 

@@ -12,6 +12,7 @@
 #include "services/coordinator/constraints.h"
 #include "services/coordinator/from_calibration.h"
 #include "services/coordinator/from_diagnosis.h"
+#include "services/coordinator/validation.h"
 #include "services/spec/engine_kinds.h"
 #include "services/spec/spec_validation.h"
 
@@ -91,6 +92,7 @@ absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
 absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   if (options_.read_only)
     return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
+  if (auto s = ResolveValidation(*store_, &spec); !s.ok()) return s;
   if (auto s = ResolveFromDiagnosis(*store_, &spec); !s.ok()) return s;
   const SpreadFn spread = [this](const std::string& id, int g) { return SpreadAfter(id, g); };
   if (auto s = ResolveFromCalibration(*store_, spread, &spec); !s.ok()) return s;

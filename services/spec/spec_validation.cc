@@ -181,7 +181,26 @@ void ValidateCircular(const StudySpec& spec, const core::ObjectiveInfo* info,
 
 }  // namespace
 
+namespace {
+
+// A validation study before the coordinator resolves it (`validate` and no objective):
+// only its own fields; the coordinator checks the rest against the study it names.
+std::vector<FieldError> ValidateRequest(const v1::Validation& v) {
+  std::vector<FieldError> e;
+  if (v.study_id().empty())
+    e.push_back({"validate.study_id", "is required: the robust study whose gaits are validated"});
+  if (v.members() < 0 || v.members() > kMaxEnsembleMembers)
+    e.push_back({"validate.members", absl::StrCat("= ", v.members(), " is out of range [0, ",
+                                                  kMaxEnsembleMembers, "] (0: four times the study's)")});
+  if (v.top() < 0)
+    e.push_back({"validate.top", absl::StrCat("= ", v.top(), " must be >= 0 (0: every gait)")});
+  return e;
+}
+
+}  // namespace
+
 std::vector<FieldError> Validate(const StudySpec& spec) {
+  if (spec.has_validate() && spec.objective().name().empty()) return ValidateRequest(spec.validate());
   std::vector<FieldError> e;
   auto add = [&](std::string path, std::string msg) { e.push_back({std::move(path), std::move(msg)}); };
   if (spec.name().size() > 128)

@@ -14,30 +14,36 @@ namespace {
 constexpr int kMembersPerStudyMember = 4;
 
 // Why gait `i` does not fit the study's bounds; empty when it does.
-std::string GaitError(const v1::StudySpec& study, const std::vector<double>& gait, size_t i) {
-  if (static_cast<int>(gait.size()) != study.bounds_size())
-    return absl::StrCat("gait ", i + 1, " has ", gait.size(), " genes; the study's space has ",
-                        study.bounds_size());
+std::string GaitError(const v1::StudySpec& study, const v1::Gait& gait, int i) {
+  if (gait.genes_size() != study.bounds_size())
+    return absl::StrCat("gait ", i + 1, " has ", gait.genes_size(),
+                        " genes; the study's space has ", study.bounds_size());
   for (int j = 0; j < study.bounds_size(); ++j) {
     const auto& b = study.bounds(j);
-    if (!(gait[j] >= b.lo() && gait[j] <= b.hi()))
-      return absl::StrCat("gait ", i + 1, ": gene ", b.name(), " = ", gait[j],
+    if (!(gait.genes(j) >= b.lo() && gait.genes(j) <= b.hi()))
+      return absl::StrCat("gait ", i + 1, ": gene ", b.name(), " = ", gait.genes(j),
                           " is outside its bounds [", b.lo(), ", ", b.hi(), "]");
   }
   return "";
 }
 
 // The factor `gait`: level i sets every gene to gait i's.
-v1::SweepFactor GaitFactor(const v1::StudySpec& study, const std::vector<std::vector<double>>& gaits) {
+v1::SweepFactor GaitFactor(const v1::StudySpec& study, const v1::Validation& request) {
   v1::SweepFactor f;
   f.set_name("gait");
-  for (size_t i = 0; i < gaits.size(); ++i) f.add_levels(absl::StrCat(i + 1));
+  for (int i = 0; i < request.gaits_size(); ++i) f.add_levels(absl::StrCat(i + 1));
   for (int j = 0; j < study.bounds_size(); ++j) {
     auto* g = f.add_genes();
     g->set_gene(study.bounds(j).name());
-    for (const auto& gait : gaits) g->add_values(gait[j]);
+    for (const auto& gait : request.gaits()) g->add_values(gait.genes(j));
   }
   return f;
+}
+
+// The seed the study's ensemble was drawn from.
+uint64_t OwnSeed(const v1::StudySpec& study) {
+  const uint64_t own = study.objective().robust().seed();
+  return own != 0 ? own : study.seed();
 }
 
 }  // namespace
@@ -49,30 +55,27 @@ int ValidationMembers(const v1::StudySpec& study, int members) {
 }
 
 uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed) {
-  if (seed != 0) return seed;
-  const uint64_t own = study.objective().robust().seed();
-  return (own != 0 ? own : study.seed()) + 1;
+  return seed != 0 ? seed : OwnSeed(study) + 1;
 }
 
 absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
-                                             const ValidationRequest& request) {
+                                             const v1::Validation& request) {
   if (!study.objective().has_robust())
     return absl::InvalidArgumentError(absl::StrCat(
-        "study ", request.study_id, " has no objective.robust: its fitness is one evaluation "
+        "study ", request.study_id(), " has no objective.robust: its fitness is one evaluation "
         "of the model, with no ensemble to draw afresh"));
-  if (request.gaits.empty()) return absl::InvalidArgumentError("no gaits to validate");
-  for (size_t i = 0; i < request.gaits.size(); ++i)
-    if (std::string bad = GaitError(study, request.gaits[i], i); !bad.empty())
+  if (request.gaits().empty()) return absl::InvalidArgumentError("no gaits to validate");
+  for (int i = 0; i < request.gaits_size(); ++i)
+    if (std::string bad = GaitError(study, request.gaits(i), i); !bad.empty())
       return absl::InvalidArgumentError(bad);
-  const int members = ValidationMembers(study, request.members);
+  const int members = ValidationMembers(study, request.members());
   if (members < 1 || members > kMaxEnsembleMembers)
-    return absl::InvalidArgumentError(absl::StrCat("--members ", members, " is out of range [1, ",
-                                                   kMaxEnsembleMembers, "]"));
-  const uint64_t seed = ValidationSeed(study, request.seed);
-  const uint64_t own = study.objective().robust().seed();
-  if (seed == (own != 0 ? own : study.seed()))
     return absl::InvalidArgumentError(absl::StrCat(
-        "--ensemble-seed ", seed, " is the study's own ensemble seed: its members are those the study "
+        "members ", members, " is out of range [1, ", kMaxEnsembleMembers, "]"));
+  const uint64_t seed = ValidationSeed(study, request.seed());
+  if (seed == OwnSeed(study))
+    return absl::InvalidArgumentError(absl::StrCat(
+        "seed ", seed, " is the study's own ensemble seed: its members are those the study "
         "selected on, so the validation would repeat its predictions"));
   v1::StudySpec out;
   out.set_name(std::string(study.name()).substr(0, 100) + "-validation");
@@ -89,7 +92,10 @@ absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
   *out.mutable_bounds() = study.bounds();
   *out.mutable_constraints() = study.constraints();
   out.mutable_sweep()->set_top_k(0);
-  *out.mutable_sweep()->add_factors() = GaitFactor(study, request.gaits);
+  *out.mutable_sweep()->add_factors() = GaitFactor(study, request);
+  *out.mutable_validate() = request;
+  out.mutable_validate()->set_members(members);
+  out.mutable_validate()->set_seed(seed);
   return out;
 }
 

@@ -14,23 +14,17 @@
 
 namespace gaitforge::spec {
 
-struct ValidationRequest {
-  std::string study_id;                     // the study validated (names the new one)
-  std::vector<std::vector<double>> gaits;   // genotypes in the study's gene space
-  int members = 0;                          // 0: four times the study's, at most 256
-  uint64_t seed = 0;                        // 0: the study's ensemble seed + 1
-};
-
 // The members and seed a request resolves to for `study` (its defaults filled).
 int ValidationMembers(const v1::StudySpec& study, int members);
 uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed);
 
-// A one-generation factorial sweep whose single factor `gait` has one level per gait
-// (every gene set), with the study's objective (its stored, resolved model) and the
-// ensemble's members and seed replaced. Refused: a study without objective.robust, no
-// gaits, a gait of the wrong length or outside the bounds, a seed equal to the study's.
+// A one-generation factorial sweep whose single factor `gait` has one level per gait of
+// `request` (every gene set), with the study's objective (its stored, resolved model) and
+// the ensemble's members and seed replaced; `validate` holds the request resolved.
+// Refused: a study without objective.robust, no gaits, a gait of the wrong length or
+// outside the bounds, members outside 1..256, a seed equal to the study's.
 absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
-                                             const ValidationRequest& request);
+                                             const v1::Validation& request);
 
 // Gaits from a text file: one per line, genes separated by spaces or commas ('#' starts a
 // comment); errors name the file and line.

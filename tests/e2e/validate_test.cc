@@ -89,7 +89,7 @@ TEST(Validate, RefusesTheStudysOwnSeedAndABadGaitsFileBeforeRunningAnything) {
   const std::string id = Study(cli, "s.yaml");
   auto own = RunCommand(cli + " validate " + id + " --ensemble-seed 5");
   EXPECT_EQ(own.exit_code, 2);
-  EXPECT_THAT(own.err, HasSubstr("--ensemble-seed 5 is the study's own ensemble seed"));
+  EXPECT_THAT(own.err, HasSubstr("validate: seed 5 is the study's own ensemble seed"));
   WriteFile(dir.File("gaits.txt"), "# two genes only\n0.1 0.2\n");
   auto bad = RunCommand(cli + " validate " + id + " --gaits gaits.txt");
   EXPECT_EQ(bad.exit_code, 2);

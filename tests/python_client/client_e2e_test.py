@@ -66,6 +66,37 @@ def run_sphere(gf, seen):
     return sid
 
 
+ROBUST = {"name": "py-robust", "seed": 7, "population": 4, "generations": 1,
+          "objective": {"name": "caterpillar.distance", "params": {"cycles": 1, "settle_cycles": 0},
+                        "robust": {"numerics": [""],
+                                   "parameters": [{"name": "actuators.force_n", "lo": 7, "hi": 10}]}},
+          "ga": {"elite": 2}}
+
+
+def check_validation(gf, errors):
+    """A robust study's hall of fame over a fresh ensemble, and the refusals."""
+    sid = gf.submit(ROBUST)
+    gf.watch(sid)
+    hof = gf.hall_of_fame(sid)
+    vid = gf.validate(sid, members=3, top=2)
+    check(gf.watch(vid)["state"] == "completed", "validate: the validation study completed")
+    spec = gf.study(vid)["spec"]
+    check(spec.engine == "sweep" and spec.objective.robust.members == 3 and spec.validate.seed == 8,
+          "validate: a sweep over 3 fresh members, seed 7 + 1")
+    rows = gf.individuals(vid, 0)
+    check(len(rows) == 2 and [r["genes"] for r in rows] == [h["genes"] for h in hof[:2]],
+          "validate: member i is hall-of-fame gait i")
+    check(all(r["valid"] and "robust.mean" in r["metrics"] for r in rows),
+          "validate: each gait's fresh ensemble mean")
+    for bad, what in ((lambda: gf.validate("no-such-study"), errors.NotFound),
+                      (lambda: gf.validate(sid, ensemble_seed=7), errors.InvalidSpec)):
+        try:
+            bad()
+            check(False, f"validate refused with {what.__name__}")
+        except what as e:
+            check(True, f"validate refused with {what.__name__}: {e}")
+
+
 def check_reads(gf, sid):
     history = gf.history(sid)
     check([h["generation"] for h in history] == [0, 1, 2], "history: generations 0..2")
@@ -281,6 +312,7 @@ def main():
             check_recording_and_control(gf, tmp, errors)
             check_robot_folder(gf, REPO, errors)
             check_diagnosis(gf, tmp, errors)
+            check_validation(gf, errors)
         compare_with_cli(a.bin_dir, db, sid, history, hof, members)
         check_tokens(a.bin_dir, tmp, Client, errors)
     finally:

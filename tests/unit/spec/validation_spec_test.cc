@@ -11,6 +11,7 @@
 namespace gaitforge::spec {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 v1::StudySpec Study(bool robust) {
@@ -26,17 +27,27 @@ v1::StudySpec Study(bool robust) {
   return loaded->spec;
 }
 
-std::vector<double> Gait(const v1::StudySpec& s, double u) {
-  std::vector<double> g;
-  for (const auto& b : s.bounds()) g.push_back(b.lo() + u * (b.hi() - b.lo()));
+v1::Gait Gait(const v1::StudySpec& s, double u) {
+  v1::Gait g;
+  for (const auto& b : s.bounds()) g.add_genes(b.lo() + u * (b.hi() - b.lo()));
   return g;
+}
+
+v1::Validation Request(const std::string& id, const std::vector<v1::Gait>& gaits, int members = 0,
+                       uint64_t seed = 0) {
+  v1::Validation r;
+  r.set_study_id(id);
+  for (const auto& g : gaits) *r.add_gaits() = g;
+  r.set_members(members);
+  r.set_seed(seed);
+  return r;
 }
 
 TEST(ValidationSpec, OneLevelPerGaitOverAFreshLargerEnsembleThatTheValidatorAccepts) {
   const v1::StudySpec study = Study(true);
   ASSERT_EQ(study.bounds_size(), 13);
   ASSERT_EQ(study.objective().robust().members(), 6);
-  ValidationRequest req{"robust-walk-1a", {Gait(study, 0.1), Gait(study, 0.5), Gait(study, 0.9)}, 0, 0};
+  v1::Validation req = Request("robust-walk-1a", {Gait(study, 0.1), Gait(study, 0.5), Gait(study, 0.9)});
   auto v = ValidationSpec(study, req);
   ASSERT_TRUE(v.ok()) << v.status();
   EXPECT_EQ(v->name(), "robust-walk-validation");
@@ -47,13 +58,18 @@ TEST(ValidationSpec, OneLevelPerGaitOverAFreshLargerEnsembleThatTheValidatorAcce
   EXPECT_TRUE(v->objective().from_calibration().empty());  // resolved once, when stored
   ASSERT_EQ(v->sweep().factors_size(), 1);
   ASSERT_EQ(v->sweep().factors(0).genes_size(), 13);
-  EXPECT_EQ(v->sweep().factors(0).genes(4).values(1), req.gaits[1][4]);
+  EXPECT_EQ(v->sweep().factors(0).genes(4).values(1), req.gaits(1).genes(4));
+  // The request, resolved, stays with the spec: which study, which gaits, members and seed.
+  EXPECT_EQ(v->validate().study_id(), "robust-walk-1a");
+  EXPECT_EQ(v->validate().gaits_size(), 3);
+  EXPECT_EQ(v->validate().members(), 24);
+  EXPECT_EQ(v->validate().seed(), 10u);
   v1::StudySpec checked = *v;
   ApplyDefaults(&checked);
   const auto errors = Validate(checked);
   ASSERT_TRUE(errors.empty()) << errors.front().path << ": " << errors.front().message;
-  req.members = 40;
-  req.seed = 77;
+  req.set_members(40);
+  req.set_seed(77);
   v = ValidationSpec(study, req);
   ASSERT_TRUE(v.ok());
   EXPECT_EQ(v->objective().robust().members(), 40);
@@ -62,21 +78,22 @@ TEST(ValidationSpec, OneLevelPerGaitOverAFreshLargerEnsembleThatTheValidatorAcce
 
 TEST(ValidationSpec, RefusesAStudyWithoutEnsembleBadGaitsAndTheStudysOwnSeed) {
   const v1::StudySpec study = Study(true);
-  auto error = [&](const v1::StudySpec& s, ValidationRequest r) {
+  auto error = [&](const v1::StudySpec& s, const v1::Validation& r) {
     auto v = ValidationSpec(s, r);
     return v.ok() ? std::string("accepted") : std::string(v.status().message());
   };
-  EXPECT_THAT(error(Study(false), {"p-1", {Gait(study, 0.5)}, 0, 0}),
+  EXPECT_THAT(error(Study(false), Request("p-1", {Gait(study, 0.5)})),
               HasSubstr("study p-1 has no objective.robust"));
-  EXPECT_THAT(error(study, {"s-1", {}, 0, 0}), HasSubstr("no gaits"));
-  EXPECT_THAT(error(study, {"s-1", {{0.5, 0.5}}, 0, 0}), HasSubstr("gait 1 has 2 genes; the study's space has 13"));
-  std::vector<double> far = Gait(study, 0.5);
-  far[12] = 50;
-  EXPECT_THAT(error(study, {"s-1", {Gait(study, 0.5), far}, 0, 0}),
+  EXPECT_THAT(error(study, Request("s-1", {})), HasSubstr("no gaits"));
+  EXPECT_THAT(error(study, Request("s-1", {v1::Gait()})), HasSubstr("gait 1 has 0 genes; the study's space has 13"));
+  v1::Gait far = Gait(study, 0.5);
+  far.set_genes(12, 50);
+  EXPECT_THAT(error(study, Request("s-1", {Gait(study, 0.5), far})),
               HasSubstr("gait 2: gene " + study.bounds(12).name() + " = 50 is outside its bounds"));
-  EXPECT_THAT(error(study, {"s-1", {Gait(study, 0.5)}, 0, 9}),
-              HasSubstr("--ensemble-seed 9 is the study's own ensemble seed"));
-  EXPECT_THAT(error(study, {"s-1", {Gait(study, 0.5)}, 300, 0}), HasSubstr("out of range [1, 256]"));
+  EXPECT_THAT(error(study, Request("s-1", {Gait(study, 0.5)}, 0, 9)),
+              HasSubstr("seed 9 is the study's own ensemble seed"));
+  EXPECT_THAT(error(study, Request("s-1", {Gait(study, 0.5)}, 300)),
+              HasSubstr("members 300 is out of range [1, 256]"));
 }
 
 TEST(ValidationSpec, GaitsFileOnePerLineWithCommentsAndErrorsNamingTheLine) {
@@ -90,6 +107,24 @@ TEST(ValidationSpec, GaitsFileOnePerLineWithCommentsAndErrorsNamingTheLine) {
               HasSubstr("g.txt:1: 2 genes; the study's space has 3"));
   EXPECT_THAT(std::string(ParseGaits("# nothing\n", "g.txt", 3).status().message()),
               HasSubstr("g.txt: no gaits"));
+}
+
+// A spec that only asks for a validation is checked for its own fields before the coordinator
+// resolves it (the CLI's and the Python client's submit validate what they send).
+TEST(ValidationSpec, AnUnresolvedRequestIsCheckedForItsOwnFieldsOnly) {
+  auto errors = [](const std::string& text) {
+    auto loaded = ParseSpec(text, "v.yaml");
+    EXPECT_TRUE(loaded.ok()) << loaded.status();
+    ApplyDefaults(&loaded->spec);
+    std::string out;
+    for (const auto& e : Validate(loaded->spec)) out += e.path + ": " + e.message + "\n";
+    return out;
+  };
+  EXPECT_EQ(errors("validate: {study_id: walk-1, members: 24, top: 5}\n"), "");
+  EXPECT_THAT(errors("validate: {members: 300, top: -1}\n"),
+              AllOf(HasSubstr("validate.study_id: is required"),
+                    HasSubstr("validate.members: = 300 is out of range [0, 256]"),
+                    HasSubstr("validate.top: = -1 must be >= 0")));
 }
 
 }  // namespace

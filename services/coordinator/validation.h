@@ -1,0 +1,19 @@
+#pragma once
+// A validation study (StudySpec.validate; docs/objectives.md, "Validation"): when it is
+// created, the coordinator makes it a sweep over the gaits of the robust study it names,
+// each over a fresh ensemble (services/spec/validation_spec.h). The stored spec holds the
+// result, so the validation stays reproducible when the study is gone.
+#include "absl/status/status.h"
+#include "gaitforge/v1/study.pb.h"
+#include "storage/study_store.h"
+
+namespace gaitforge::coordinator {
+
+// No-op without spec->validate. Otherwise replaces *spec by the validation study of
+// validate.study_id: its gaits (validate.gaits, or the first validate.top valid gaits of
+// its latest hall of fame), its objective and bounds, the fresh ensemble. Refused: an
+// unknown study (NotFound), a spec that also names an objective, bounds, population or
+// generations (they come from the study), no valid gait, and ValidationSpec's refusals.
+absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec);
+
+}  // namespace gaitforge::coordinator
