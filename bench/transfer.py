@@ -38,7 +38,8 @@ selection never saw) and prints the ratio and correlation against that predictio
     /usr/bin/python3 bench/transfer.py [--bin build/bin] [--population 100]
         [--generations 30] [--builds rig2d,mujoco] [--diagnose] [--quick]
 
-Prints a table and writes transfer.json in --out. --quick: a smoke run (small studies,
+Prints a table and writes transfer.json (every gait's genes, predictions and travel too) and
+transfer.svg (achieved against predicted travel per gait) in --out. --quick: a smoke run (small studies,
 few gaits) to check the pipeline, not a measurement.
 """
 import argparse
@@ -156,9 +157,12 @@ def individuals(db, robust, study):
     for g, m, blob, fit in rows:
         out.append((g, fit, mean.get((g, m), fit) if robust else fit, genes_of(blob)))
     last = con.execute("SELECT MAX(generation) FROM individuals WHERE study_id = ?", (sid,)).fetchone()[0]
-    final = [(fit, mean.get((g, m), fit) if robust else fit, genes_of(blob)) for g, m, blob, fit in
-             con.execute("SELECT generation, member, genes, fitness FROM individuals "
-                         "WHERE study_id = ? AND valid = 1 AND generation = ?", (sid, last))]
+    # A carried elite's metrics are stored once, with the evaluation it was carried from.
+    rows = con.execute("SELECT origin_generation, origin_member, genes, fitness FROM individuals "
+                       "WHERE study_id = ? AND valid = 1 AND generation = ?", (sid, last)).fetchall()
+    if robust and any((g, m) not in mean for g, m, _, _ in rows):
+        sys.exit(f"transfer: {study}: a final member without robust.mean")
+    final = [(fit, mean[(g, m)] if robust else fit, genes_of(blob)) for g, m, blob, fit in rows]
     return out, final
 
 
@@ -474,6 +478,50 @@ def table(sets, where, achieved, walls, validated):
     return rows
 
 
+def per_gait(sets, where, achieved, validated):
+    """Every measured gait: its genes, the study's prediction, the fresh ensemble's (None
+    without --validate) and its travel on each (build, scenario), metres per cycle."""
+    out = {}
+    for study in sets:
+        for kind, gaits in sets[study].items():
+            fresh = validated.get(study, {}).get(kind, [None] * len(gaits))
+            out[f"{study}/{kind}"] = [
+                {"genes": g, "predicted": p, "validated": v,
+                 "achieved": {f"{b}/{scen}": achieved[(b, study, kind, i, scen)]
+                              for b, scen in where[study]}}
+                for i, ((p, g), v) in enumerate(zip(gaits, fresh))]
+    return out
+
+
+def plot(gaits, path):
+    """Achieved against predicted travel per gait, one panel per study and build with nothing
+    concealed: the study's own prediction and, where there is one, the fresh ensemble's."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    panels = sorted({(key.split("/")[0], where) for key, rows in gaits.items()
+                     for where in rows[0]["achieved"] if where.endswith("nothing concealed")})
+    if not panels:
+        return
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), squeeze=False)
+    for ax, (study, where) in zip(axes[0], panels):
+        rows = gaits.get(f"{study}/best", []) + gaits.get(f"{study}/spread", [])
+        ach = np.array([100 * r["achieved"][where] for r in rows])
+        pred = np.array([100 * r["predicted"] for r in rows])
+        ax.scatter(pred, ach, s=14, label="study's ensemble mean")
+        if all(r["validated"] is not None for r in rows):
+            ax.scatter([100 * r["validated"] for r in rows], ach, s=14, marker="x",
+                       label="fresh ensemble (validate)")
+        lim = [min(0, np.nanmin(ach), np.nanmin(pred)), max(np.nanmax(ach), np.nanmax(pred))]
+        ax.plot(lim, lim, "k:", lw=0.8, label="achieved = predicted")
+        ax.set(title=f"{study}\non {where.split('/')[0]}", xlabel="predicted, cm per cycle",
+               ylabel="achieved, cm per cycle")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    print(f"wrote {path}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", default=os.path.join(HERE, "..", "build", "bin"))
@@ -574,10 +622,12 @@ def main():
             check(db, study)
     achieved = measure(sets, where, args.cycles)
     rows = table(sets, where, achieved, walls, validated)
+    gaits = per_gait(sets, where, achieved, validated)
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
         json.dump({"rows": rows, "population": args.population, "generations": args.generations,
                    "paper_long_generations": longer, "diagnoses": named,
-                   "calibrations": fits}, f, indent=1)
+                   "calibrations": fits, "gaits": gaits}, f, indent=1)
+    plot(gaits, os.path.join(args.out, "transfer.svg"))
 
 
 if __name__ == "__main__":
