@@ -18,12 +18,18 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+v1::Evaluation NotEvaluated() {
+  v1::Evaluation e;
+  e.set_reason("not in the validation study's results");
+  return e;
+}
+
 struct Row {
   int rank = 0;                // hall-of-fame rank, or line order in --gaits
   std::vector<double> genes;
   double fitness = kNaN;       // the study's (hall-of-fame gaits only)
   double predicted = kNaN;     // the study's ensemble mean (hall-of-fame gaits only)
-  v1::Evaluation validated;
+  v1::Evaluation validated = NotEvaluated();
 };
 
 double Metric(const v1::Evaluation& e, const std::string& name) {
@@ -113,12 +119,14 @@ int ReadValidation(Connection& conn, const GlobalOptions& g, const std::string& 
   for (const auto& ind : resp.individuals()) {
     if (ind.member() < 0 || ind.member() >= static_cast<int>(rows->size())) continue;
     Row& row = (*rows)[ind.member()];
-    for (int j = 0; j < ind.genes_size(); ++j)
-      if (std::abs(ind.genes(j) - row.genes[j]) > 1e-9 * (1 + std::abs(row.genes[j]))) {
-        std::cerr << "gaitforge: validate: " << vid << "'s member " << ind.member()
-                  << " is not gait " << ind.member() + 1 << "\n";
-        return kFailed;
-      }
+    bool same = ind.genes_size() == static_cast<int>(row.genes.size());
+    for (int j = 0; same && j < ind.genes_size(); ++j)
+      same = std::abs(ind.genes(j) - row.genes[j]) <= 1e-9 * (1 + std::abs(row.genes[j]));
+    if (!same) {
+      std::cerr << "gaitforge: validate: " << vid << "'s member " << ind.member() << " is not gait "
+                << ind.member() + 1 << "\n";
+      return kFailed;
+    }
     row.validated = ind.evaluation();
   }
   return kOk;
