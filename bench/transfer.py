@@ -143,11 +143,22 @@ def same_gait(a, b):
     return all(min(abs(x - d[0]), 1 - abs(x - d[0])) < 1e-9 for x in d)
 
 
+def study_id(db, name):
+    """The newest completed study named `name` in `db` (a --reuse database may also hold an
+    interrupted one of the same name)."""
+    row = sqlite3.connect(db).execute(
+        "SELECT study_id FROM studies WHERE name = ? AND state = 'completed' "
+        "ORDER BY created_ms DESC LIMIT 1", (name,)).fetchone()
+    if row is None:
+        sys.exit(f"transfer: {db} holds no completed study named {name}")
+    return row[0]
+
+
 def individuals(db, robust, study):
     """(generation, fitness, predicted, genes) of every valid individual the study named
     `study` evaluated, and (fitness, predicted, genes) of its final population."""
     con = sqlite3.connect(db)
-    sid = con.execute("SELECT study_id FROM studies WHERE name = ?", (study,)).fetchone()[0]
+    sid = study_id(db, study)
     rows = con.execute("SELECT generation, member, genes, fitness FROM individuals "
                        "WHERE study_id = ? AND valid = 1 AND carried = 0", (sid,)).fetchall()
     mean = dict(((g, m), v) for g, m, v in con.execute(
@@ -208,9 +219,7 @@ def validate(args, db, study, sets):
     """Each gait of `sets` (kind -> [(predicted, genes)]) of robust study `study` over a
     fresh ensemble of --validate members (`gaitforge validate`); kind -> validated means."""
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
-    studies = json.loads(subprocess.run(gf + ["list", "--json"], capture_output=True, text=True,
-                                        check=True).stdout)["studies"]
-    ident = next(s["study_id"] for s in studies if s["spec"]["name"] == study)
+    ident = study_id(db, study)
     out = {}
     for kind, gaits in sets.items():
         path = os.path.join(args.out, f"{study}-{kind}.gaits")
@@ -499,13 +508,14 @@ def plot(gaits, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    panels = sorted({(key.split("/")[0], where) for key, rows in gaits.items()
+    panels = sorted({(key.split("/")[0], where) for key, rows in gaits.items() if rows
                      for where in rows[0]["achieved"] if where.endswith("nothing concealed")})
     if not panels:
         return
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), squeeze=False)
     for ax, (study, where) in zip(axes[0], panels):
         rows = gaits.get(f"{study}/best", []) + gaits.get(f"{study}/spread", [])
+        rows = [r for r in rows if r["achieved"][where] is not None and np.isfinite(r["achieved"][where])]
         ach = np.array([100 * r["achieved"][where] for r in rows])
         pred = np.array([100 * r["predicted"] for r in rows])
         ax.scatter(pred, ach, s=14, label="study's ensemble mean")

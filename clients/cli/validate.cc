@@ -25,7 +25,7 @@ v1::Evaluation NotEvaluated() {
 }
 
 struct Row {
-  int rank = 0;                // hall-of-fame rank, or line order in --gaits
+  int rank = -1;               // hall-of-fame rank; -1 for a gait not in it
   std::vector<double> genes;
   double fitness = kNaN;       // the study's (hall-of-fame gaits only)
   double predicted = kNaN;     // the study's ensemble mean (hall-of-fame gaits only)
@@ -60,12 +60,12 @@ int Request(const std::string& id, const v1::StudySpec& study, const ValidateOpt
 }
 
 // One row per gait the validation study resolved to, in its order; a gait of the study's
-// hall of fame gets its rank, fitness and prediction there.
+// hall of fame (as it was when the validation started) gets its rank, fitness and
+// prediction there.
 std::vector<Row> Rows(const v1::Validation& resolved, const v1::GetHallOfFameResponse& hof) {
   std::vector<Row> rows;
   for (int i = 0; i < resolved.gaits_size(); ++i) {
     Row& row = rows.emplace_back();
-    row.rank = i;
     row.genes.assign(resolved.gaits(i).genes().begin(), resolved.gaits(i).genes().end());
     for (const auto& e : hof.entries()) {
       const auto& ind = e.individual();
@@ -144,7 +144,8 @@ void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpe
     const v1::Evaluation& e = r.validated;
     std::vector<std::string> genes;
     for (double x : r.genes) genes.push_back(Num(x));
-    std::cout << (i ? ", " : "") << "{\"rank\": " << r.rank << ", \"genes\": ["
+    std::cout << (i ? ", " : "") << "{\"rank\": " << (r.rank < 0 ? "null" : std::to_string(r.rank))
+              << ", \"genes\": ["
               << absl::StrJoin(genes, ", ") << "], \"fitness\": " << Num(r.fitness)
               << ", \"predicted\": " << Num(r.predicted) << ", \"valid\": "
               << (e.valid() ? "true" : "false") << ", \"reason\": " << JsonQuote(e.reason())
@@ -158,7 +159,7 @@ void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpe
 
 void PrintTable(const std::string& id, const std::string& vid, const v1::StudySpec& spec,
                 const std::vector<Row>& rows) {
-  std::cout << "gaits of " << id << " over a fresh ensemble of "
+  std::cout << rows.size() << " gaits of " << id << " over a fresh ensemble of "
             << spec.objective().robust().members() << " members (seed "
             << spec.objective().robust().seed() << "): study " << vid << "\n"
             << absl::StrFormat("%4s %12s %12s  %-34s %10s\n", "RANK", "FITNESS", "PREDICTED",
@@ -171,7 +172,8 @@ void PrintTable(const std::string& id, const std::string& vid, const v1::StudySp
         e.valid() ? absl::StrFormat("%.4g [%.4g, %.4g]", Metric(e, "robust.mean"),
                                     Metric(e, "robust.min"), Metric(e, "robust.max"))
                   : "invalid: " + e.reason().substr(0, 60);
-    std::cout << absl::StrFormat("%4d %12.6g %12.6g  %-34s %10.4g\n", r.rank, r.fitness, r.predicted,
+    std::cout << absl::StrFormat("%4s %12.6g %12.6g  %-34s %10.4g\n",
+                                 r.rank < 0 ? "-" : std::to_string(r.rank), r.fitness, r.predicted,
                                  mean, Metric(e, "robust.sd"));
     if (e.valid() && std::isfinite(r.predicted)) {
       predicted += r.predicted;
@@ -200,15 +202,19 @@ int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, in
   v1::StudySummary study;
   if (grpc::Status s = FetchStudy(conn->study(), g, args[0], &study); !s.ok())
     return ReportRpcError(s, "validate " + args[0]);
+  if (v.top > 0 && !v.gaits.empty()) {
+    std::cerr << "gaitforge: validate: --top picks hall-of-fame gaits; not with --gaits\n";
+    return kUsage;
+  }
   v1::StudySpec request;
   if (int c = Request(args[0], study.spec(), v, &request); c) return c;
+  auto hof = Hof(conn->study(), args[0], -1, g);  // before: a running study's moves on
+  if (!hof.ok()) return HofError(hof.status(), "validate " + args[0]);
   std::string vid;
   if (int c = RunValidation(g, *conn, workers, threads, request, &vid); c) return c;
   v1::StudySummary validation;
   if (grpc::Status s = FetchStudy(conn->study(), g, vid, &validation); !s.ok())
     return ReportRpcError(s, "validate " + args[0]);
-  auto hof = Hof(conn->study(), args[0], -1, g);
-  if (!hof.ok()) return HofError(hof.status(), "validate " + args[0]);
   std::vector<Row> rows = Rows(validation.spec().validate(), *hof);
   if (int c = ReadValidation(*conn, g, vid, &rows); c) return c;
   const v1::StudySpec& spec = validation.spec();

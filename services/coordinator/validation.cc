@@ -8,11 +8,22 @@ namespace {
 
 constexpr char kField[] = "validate";
 
+// A spec that already is a validation study (one stored, submitted again): `validate` is
+// the record of where it came from, and the spec is checked as any other.
+bool Resolved(const v1::StudySpec& spec) {
+  return !spec.objective().name().empty() && spec.engine() == "sweep" &&
+         spec.validate().gaits_size() > 0;
+}
+
 // What a validation spec may not set: it takes them from the study it validates.
 absl::Status OnlyTheRequest(const v1::StudySpec& spec) {
+  if (spec.validate().top() > 0 && spec.validate().gaits_size() > 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        kField, ": top picks hall-of-fame gaits; with gaits given it would be ignored"));
   for (const auto& [set, field] :
-       {std::make_pair(!spec.objective().name().empty(), "objective"),
+       {std::make_pair(spec.has_objective(), "objective"),
         std::make_pair(spec.bounds_size() > 0, "bounds"),
+        std::make_pair(spec.constraints_size() > 0, "constraints"),
         std::make_pair(spec.population() != 0, "population"),
         std::make_pair(spec.generations() != 0, "generations")})
     if (set)
@@ -27,7 +38,9 @@ absl::Status HallOfFameGaits(storage::StudyStore& store, const std::string& id,
                              v1::Validation* request) {
   if (auto s = store.Flush(); !s.ok()) return s;
   auto hof = store.HallOfFame(id, std::nullopt);
-  if (!hof.ok()) return hof.status();
+  if (!hof.ok())
+    return absl::Status(hof.status().code(),
+                        absl::StrCat(kField, ".study_id: ", hof.status().message()));
   for (const storage::HofRecord& h : hof->second) {
     if (request->top() > 0 && request->gaits_size() == request->top()) break;
     if (h.valid) request->add_gaits()->mutable_genes()->Add(h.genes.begin(), h.genes.end());
@@ -41,7 +54,7 @@ absl::Status HallOfFameGaits(storage::StudyStore& store, const std::string& id,
 }  // namespace
 
 absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec) {
-  if (!spec->has_validate()) return absl::OkStatus();
+  if (!spec->has_validate() || Resolved(*spec)) return absl::OkStatus();
   if (auto s = OnlyTheRequest(*spec); !s.ok()) return s;
   v1::Validation request = spec->validate();
   const std::string id = request.study_id();
@@ -54,6 +67,9 @@ absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec) 
   v1::StudySpec study;
   if (!study.ParseFromString(rec->spec))
     return absl::DataLossError(absl::StrCat(kField, ": study ", id, "'s stored spec is unreadable"));
+  // Before its hall of fame is read: the reason that matters.
+  if (auto s = spec::Validatable(study, id); !s.ok())
+    return absl::InvalidArgumentError(absl::StrCat(kField, ": ", s.message()));
   if (request.gaits().empty())
     if (auto s = HallOfFameGaits(store, id, &request); !s.ok()) return s;
   auto out = spec::ValidationSpec(study, request);

@@ -9,11 +9,14 @@
 
 namespace gaitforge::coordinator {
 
-// No-op without spec->validate. Otherwise replaces *spec by the validation study of
+// No-op without spec->validate, or for a spec that is a validation study already (an
+// objective, a sweep and validate's gaits: a stored one submitted again). Otherwise
+// replaces *spec by the validation study of
 // validate.study_id: its gaits (validate.gaits, or the first validate.top valid gaits of
 // its latest hall of fame), its objective and bounds, the fresh ensemble. Refused: an
-// unknown study (NotFound), a spec that also names an objective, bounds, population or
-// generations (they come from the study), no valid gait, and ValidationSpec's refusals.
+// unknown study (NotFound), a spec that also sets an objective, bounds, constraints,
+// population or generations (they come from the study), top with gaits, no valid gait,
+// and ValidationSpec's refusals.
 absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec);
 
 }  // namespace gaitforge::coordinator

@@ -55,15 +55,21 @@ int ValidationMembers(const v1::StudySpec& study, int members) {
 }
 
 uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed) {
-  return seed != 0 ? seed : OwnSeed(study) + 1;
+  if (seed != 0) return seed;
+  const uint64_t next = OwnSeed(study) + 1;
+  return next != 0 ? next : 1;  // 0 would mean "the study's seed"
+}
+
+absl::Status Validatable(const v1::StudySpec& study, const std::string& id) {
+  if (study.objective().has_robust()) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat(
+      "study ", id, " has no objective.robust: its fitness is one evaluation of the model, "
+      "with no ensemble to draw afresh"));
 }
 
 absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
                                              const v1::Validation& request) {
-  if (!study.objective().has_robust())
-    return absl::InvalidArgumentError(absl::StrCat(
-        "study ", request.study_id(), " has no objective.robust: its fitness is one evaluation "
-        "of the model, with no ensemble to draw afresh"));
+  if (auto s = Validatable(study, request.study_id()); !s.ok()) return s;
   if (request.gaits().empty()) return absl::InvalidArgumentError("no gaits to validate");
   for (int i = 0; i < request.gaits_size(); ++i)
     if (std::string bad = GaitError(study, request.gaits(i), i); !bad.empty())

@@ -18,6 +18,9 @@ namespace gaitforge::spec {
 int ValidationMembers(const v1::StudySpec& study, int members);
 uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed);
 
+// OK when study `id` has an ensemble to draw afresh (objective.robust).
+absl::Status Validatable(const v1::StudySpec& study, const std::string& id);
+
 // A one-generation factorial sweep whose single factor `gait` has one level per gait of
 // `request` (every gene set), with the study's objective (its stored, resolved model) and
 // the ensemble's members and seed replaced; `validate` holds the request resolved.

@@ -81,6 +81,10 @@ TEST(Validation, TheStudysValidGaitsBecomeTheLevelsOfAFreshEnsemble) {
   v1::StudySpec first = Request("walk-1", 1);
   ASSERT_TRUE(ResolveValidation(*store, &first).ok());
   EXPECT_EQ(first.validate().gaits_size(), 1);
+  // A stored validation study submitted again is left as it is, and valid.
+  v1::StudySpec again = s;
+  ASSERT_TRUE(ResolveValidation(*store, &again).ok());
+  EXPECT_EQ(again.SerializeAsString(), s.SerializeAsString());
 }
 
 TEST(Validation, RefusesAnUnknownStudyAnOwnObjectiveNoEnsembleAndNoValidGait) {
@@ -93,7 +97,14 @@ TEST(Validation, RefusesAnUnknownStudyAnOwnObjectiveNoEnsembleAndNoValidGait) {
   auto s = ResolveValidation(*store, &own);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(s.message(), HasSubstr("takes its objective from the study it validates"));
-  auto plain = Store(dir, "paper-1", false, {Entry(0, 0.1, true)});
+  v1::StudySpec calibrated = Request("walk-1");
+  calibrated.mutable_objective()->set_from_calibration("cal-1");
+  EXPECT_THAT(ResolveValidation(*store, &calibrated).message(), HasSubstr("leave 'objective' out"));
+  v1::StudySpec both = Request("walk-1", 2);
+  *both.mutable_validate()->add_gaits() = v1::Gait();
+  EXPECT_THAT(ResolveValidation(*store, &both).message(), HasSubstr("with gaits given"));
+  // Without an ensemble the study is refused for that, whatever its hall of fame holds.
+  auto plain = Store(dir, "paper-1", false, {Entry(0, 0.1, false)});
   v1::StudySpec p = Request("paper-1");
   EXPECT_THAT(ResolveValidation(*plain, &p).message(), HasSubstr("has no objective.robust"));
   auto failed = Store(dir, "bad-1", true, {Entry(0, 0.1, false)});
