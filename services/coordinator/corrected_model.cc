@@ -10,8 +10,7 @@ void PrependSet(v1::ObjectiveSpec* objective, const std::string& corrected) {
   if (own.empty()) objective->mutable_options()->erase("set");
 }
 
-void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi,
-                      bool log) {
+void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi) {
   const auto& listed = objective->robust().parameters();
   if (std::any_of(listed.begin(), listed.end(), [&](const auto& p) { return p.name() == name; }))
     return;
@@ -19,7 +18,6 @@ void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, dou
   p->set_name(name);
   p->set_lo(lo);
   p->set_hi(hi);
-  if (log) p->set_log(true);
 }
 
 }  // namespace gaitforge::coordinator

@@ -11,9 +11,7 @@ namespace gaitforge::coordinator {
 // objective.options.set becomes `corrected` followed by the spec's own items (which win).
 void PrependSet(v1::ObjectiveSpec* objective, const std::string& corrected);
 
-// Adds {name, lo, hi} to objective.robust.parameters unless the spec already lists name;
-// `log` marks a range the ensemble samples by its logarithm (a gene the fit searched so).
-void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi,
-                      bool log = false);
+// Adds {name, lo, hi} to objective.robust.parameters unless the spec already lists name.
+void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi);
 
 }  // namespace gaitforge::coordinator

@@ -105,7 +105,10 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
     if (IsNuisance(*info, b.name()) || !ranges[i].ok()) continue;
     const double lo = std::max(b.lo(), ranges[i].lo);
     const double hi = std::min(b.hi(), ranges[i].hi);
-    if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi, b.log());
+    // Sampled linearly even for a gene searched by its logarithm: sampled by their
+    // logarithm, the ranges put the members near a fit that had underestimated the
+    // build's creep, and transfer fell on both independent builds (objectives.md).
+    if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi);
   }
   return absl::OkStatus();
 }

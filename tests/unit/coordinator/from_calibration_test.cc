@@ -57,10 +57,11 @@ TEST(FromCalibration, ALogGenesRangeIsTwoLogSpaceSdEachSide) {
   EXPECT_LT(SpreadRanges({x}, {x * std::sinh(s)})[0].lo, 0.0);  // unmarked: linear
 }
 
-// The ensemble samples a gene the calibration searched by its logarithm the same way: its
-// range keeps the mark, so a softness fitted at 3e-6 with a range up to 5e-5 is not sampled
-// mostly near the top of that range.
-TEST(FromCalibration, ALogGenesEnsembleRangeIsSampledByItsLogarithm) {
+// A gene the calibration searched by its logarithm is still sampled linearly over its range:
+// measured (bench/transfer.py, 2026-12-02), sampling by the logarithm concentrated the
+// members near a fit that had underestimated the build's creep, and gaits transferred
+// worse on both builds. `log: true` on a range stays a choice the spec can make.
+TEST(FromCalibration, ALogGenesEnsembleRangeIsSampledLinearly) {
   v1::StudySpec c = Calibration("caterpillar.calibration");
   c.mutable_bounds(1)->set_log(true);
   v1::StudySpec g = Gait(true);
@@ -68,7 +69,7 @@ TEST(FromCalibration, ALogGenesEnsembleRangeIsSampledByItsLogarithm) {
   ASSERT_EQ(g.objective().robust().parameters_size(), 2);
   EXPECT_FALSE(g.objective().robust().parameters(0).log());
   EXPECT_EQ(g.objective().robust().parameters(1).name(), "scale.link_stiffness");
-  EXPECT_TRUE(g.objective().robust().parameters(1).log());
+  EXPECT_FALSE(g.objective().robust().parameters(1).log());
 }
 
 TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay) {
