@@ -313,7 +313,11 @@ def completed(db, name):
     """Whether `db` holds a completed study named `name` (--reuse)."""
     if not os.path.exists(db):
         return False
-    row = sqlite3.connect(db).execute("SELECT state FROM studies WHERE name = ?", (name,)).fetchone()
+    try:
+        row = sqlite3.connect(db).execute("SELECT state FROM studies WHERE name = ?",
+                                          (name,)).fetchone()
+    except sqlite3.OperationalError:  # a file that is no gaitforge database (yet)
+        return False
     return bool(row) and row[0] == "completed"
 
 
