@@ -231,6 +231,11 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
                         const std::string& out_dir,
                         const std::function<std::string(v1::StudyService::Stub&)>& start,
                         int* start_code);
+// A `start` for RunWithLocalWorkers: creates the study of `spec` and returns its id, or ""
+// after printing the error (as `what`) and setting *code.
+std::function<std::string(v1::StudyService::Stub&)> CreateStudyStart(const GlobalOptions& g,
+                                                                    v1::StudySpec spec,
+                                                                    std::string what, int* code);
 // `validate ID`: a robust study's gaits over a fresh ensemble (validate.cc).
 struct ValidateOptions {
   int members = 0;        // 0: four times the study's ensemble (at most 256)

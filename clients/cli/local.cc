@@ -80,6 +80,24 @@ int RunWithLocalWorkers(const GlobalOptions& g, Connection& conn, int workers, i
   return code;
 }
 
+std::function<std::string(v1::StudyService::Stub&)> CreateStudyStart(const GlobalOptions& g,
+                                                                    v1::StudySpec spec,
+                                                                    std::string what, int* code) {
+  return [&g, spec = std::move(spec), what = std::move(what), code](v1::StudyService::Stub& stub) {
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, g.timeout_s);
+    v1::CreateStudyRequest req;
+    *req.mutable_spec() = spec;
+    v1::CreateStudyResponse resp;
+    grpc::Status s = stub.CreateStudy(&ctx, req, &resp);
+    if (!s.ok()) {
+      *code = ReportRpcError(s, what);
+      return std::string();
+    }
+    return resp.study().study_id();
+  };
+}
+
 std::vector<pid_t> StartLocalWorkers(const GlobalOptions& g, const std::string& target, int workers,
                                      int threads) {
   const std::string logs = LogsDir(g);
@@ -111,20 +129,10 @@ int CmdLocal(const GlobalOptions& g, const std::vector<std::string>& args, int w
   if (!conn) return code;
   if (int c = UploadSpecRecordings(*conn, args[0], req.mutable_spec(), g); c) return c;
   int start_code = kOk;
-  return RunWithLocalWorkers(
-      g, *conn, workers, threads, out_dir,
-      [&](v1::StudyService::Stub& stub) -> std::string {
-        grpc::ClientContext ctx;
-        SetDeadline(ctx, g.timeout_s);
-        v1::CreateStudyResponse resp;
-        grpc::Status s = stub.CreateStudy(&ctx, req, &resp);
-        if (!s.ok()) {
-          start_code = ReportRpcError(s, "create study from " + args[0]);
-          return "";
-        }
-        return resp.study().study_id();
-      },
-      &start_code);
+  return RunWithLocalWorkers(g, *conn, workers, threads, out_dir,
+                             CreateStudyStart(g, req.spec(), "create study from " + args[0],
+                                              &start_code),
+                             &start_code);
 }
 
 int CmdResume(const GlobalOptions& g, const std::vector<std::string>& args, int workers,

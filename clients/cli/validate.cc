@@ -86,19 +86,8 @@ int RunValidation(const GlobalOptions& g, Connection& conn, int workers, int thr
   GlobalOptions quiet = g;
   quiet.json = false;  // progress on stderr; stdout keeps this command's own output
   int start_code = kOk;
-  auto start = [&](v1::StudyService::Stub& stub) -> std::string {
-    grpc::ClientContext ctx;
-    SetDeadline(ctx, g.timeout_s);
-    v1::CreateStudyRequest req;
-    *req.mutable_spec() = spec;
-    v1::CreateStudyResponse resp;
-    grpc::Status s = stub.CreateStudy(&ctx, req, &resp);
-    if (!s.ok()) {
-      start_code = ReportRpcError(s, "create the validation study");
-      return "";
-    }
-    return *vid = resp.study().study_id();
-  };
+  const auto create = CreateStudyStart(g, spec, "create the validation study", &start_code);
+  auto start = [&](v1::StudyService::Stub& stub) { return *vid = create(stub); };
   if (g.coordinator.empty())
     return RunWithLocalWorkers(quiet, conn, workers, threads, "", start, &start_code);
   if (start(conn.study()).empty()) return start_code;

@@ -46,8 +46,7 @@ uint64_t OwnSeed(const v1::StudySpec& study) {
   return own != 0 ? own : study.seed();
 }
 
-}  // namespace
-
+// The members and seed a request resolves to (0: the defaults).
 int ValidationMembers(const v1::StudySpec& study, int members) {
   if (members > 0) return members;
   return std::min(kMaxEnsembleMembers,
@@ -59,6 +58,8 @@ uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed) {
   const uint64_t next = OwnSeed(study) + 1;
   return next != 0 ? next : 1;  // 0 would mean "the study's seed"
 }
+
+}  // namespace
 
 absl::Status Validatable(const v1::StudySpec& study, const std::string& id) {
   if (study.objective().has_robust()) return absl::OkStatus();

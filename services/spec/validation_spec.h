@@ -14,10 +14,6 @@
 
 namespace gaitforge::spec {
 
-// The members and seed a request resolves to for `study` (its defaults filled).
-int ValidationMembers(const v1::StudySpec& study, int members);
-uint64_t ValidationSeed(const v1::StudySpec& study, uint64_t seed);
-
 // OK when study `id` has an ensemble to draw afresh (objective.robust).
 absl::Status Validatable(const v1::StudySpec& study, const std::string& id);
 
