@@ -98,7 +98,7 @@ STEP_VARIANTS = ["simulation.timestep_s=0.0005", "simulation.timestep_s=0.00075"
 
 
 def spec(name, population, generations, robust, diagnosis="", structural=False, calibration="",
-         k=ROBUST_K, seed=1):
+         k=ROBUST_K, seed=1, sampling="box"):
     text = (f"name: {name}\nseed: {seed}\nengine: ga\npopulation: {population}\n"
             f"generations: {generations}\nga: {{elite: 10, mutation_rate: 0.10}}\n"
             "objective:\n  name: caterpillar.distance\n")
@@ -108,9 +108,11 @@ def spec(name, population, generations, robust, diagnosis="", structural=False, 
         text += f"  from_calibration: {calibration}\n"
     if not robust:
         return text + "  params: {cycles: 1, settle_cycles: 2}\n"
+    fits = "    sampling: fits\n" if calibration and sampling == "fits" else ""
     return text + ("  params: {cycles: 2, settle_cycles: 1}\n"
                    "  robust:\n    numerics: [standard]\n"
-                   f"    statistic: mean_minus_sd\n    k: {k}\n") + (STRUCTURAL if structural else "")
+                   f"    statistic: mean_minus_sd\n    k: {k}\n" + fits) + (
+                       STRUCTURAL if structural else "")
 
 
 def evolve(args, name, generations, robust, db=None, diagnosis="", structural=False, calibration=""):
@@ -121,7 +123,7 @@ def evolve(args, name, generations, robust, db=None, diagnosis="", structural=Fa
     path = os.path.join(args.out, f"{name}.yaml")
     with open(path, "w") as f:
         f.write(spec(name, args.population, generations, robust, diagnosis, structural, calibration,
-                     args.robust_k, args.seed))
+                     args.robust_k, args.seed, args.sampling))
     t0 = time.monotonic()
     r = subprocess.run([os.path.join(args.bin, "gaitforge"), "--db", db, "local", path,
                         "--workers", "2"], capture_output=True, text=True)
@@ -584,6 +586,10 @@ def main():
     ap.add_argument("--tag", default="",
                     help="--calibrate: name the robust studies -TAG, so that --reuse keeps the "
                          "calibrations and evolves anew (after a change to the ensemble, say)")
+    ap.add_argument("--sampling", choices=("box", "fits"), default="box",
+                    help="--calibrate: the robust study's objective.robust.sampling: the open "
+                         "ranges sampled independently (box) or the calibration's own fits as "
+                         "joint samples (fits)")
     ap.add_argument("--validate", type=int, default=0, metavar="MEMBERS",
                     help="also predict each robust study's gaits over a fresh ensemble of this "
                          "many members (gaitforge validate), reported beside the study's own")

@@ -28,10 +28,11 @@ bool IsNuisance(const core::ObjectiveInfo& info, const std::string& gene) {
   return std::find(info.nuisance.begin(), info.nuisance.end(), gene) != info.nuisance.end();
 }
 
-// The ranges calibration `id`'s recordings leave open around its best (open_ranges.h), from
-// every evaluation of generations 0 .. last; empty when the best has no per-recording errors.
-std::vector<GeneRange> LeftOpen(storage::StudyStore& store, const std::string& id, int last,
-                                const storage::HofRecord& best) {
+// The genes of every evaluation of calibration `id` (generations 0 .. last) that fits its
+// recordings as well as its best (open_ranges.h), best first; empty when the best has no
+// per-recording errors.
+std::vector<std::vector<double>> FitsOf(storage::StudyStore& store, const std::string& id,
+                                        int last, const storage::HofRecord& best) {
   std::vector<storage::IndividualRecord> evaluated;
   for (int g = 0; g <= last; ++g) {
     auto members = store.Individuals(id, g);
@@ -42,10 +43,9 @@ std::vector<GeneRange> LeftOpen(storage::StudyStore& store, const std::string& i
   for (const auto& r : evaluated)
     if (r.generation == best.origin_generation && r.member == best.origin_member) found = &r;
   if (found == nullptr) return {};
-  int accepted = 0;
-  auto out = RangesLeftOpen(evaluated, *found, best.genes.size(), &accepted);
+  auto out = FitsLeftOpen(evaluated, *found, best.genes.size());
   spdlog::info("from_calibration {}: {} of {} evaluations fit the recordings as well as its best",
-               id, accepted, evaluated.size());
+               id, out.size(), evaluated.size());
   return out;
 }
 
@@ -99,7 +99,7 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
   PrependSet(o, absl::StrJoin(set, ","));
   if (fit.params().count("timestep_ms") && !o->params().count("timestep_ms"))
     (*o->mutable_params())["timestep_ms"] = fit.params().at("timestep_ms");
-  if (!o->has_robust()) return absl::OkStatus();
+  if (!o->has_robust() || o->robust().sampling() == "fits") return absl::OkStatus();
   for (int i = 0; i < calibration.bounds_size() && i < static_cast<int>(ranges.size()); ++i) {
     const auto& b = calibration.bounds(i);
     if (IsNuisance(*info, b.name()) || !ranges[i].ok()) continue;
@@ -109,6 +109,47 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
     // logarithm, the ranges put the members near a fit that had underestimated the
     // build's creep, and transfer fell on both independent builds (objectives.md).
     if (lo < hi) AddEnsembleRange(o, b.name(), lo, hi);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ApplyFits(const std::string& id, const v1::StudySpec& calibration,
+                       const std::vector<std::vector<double>>& fits, v1::StudySpec* spec) {
+  const core::ObjectiveInfo* info = core::FindObjective(calibration.objective().name());
+  auto* r = spec->mutable_objective()->mutable_robust();
+  std::vector<int> genes;  // the calibrated values: every bound but the nuisances
+  for (int i = 0; i < calibration.bounds_size(); ++i)
+    if (info == nullptr || !IsNuisance(*info, calibration.bounds(i).name())) genes.push_back(i);
+  for (const auto& p : r->parameters())
+    if (std::none_of(genes.begin(), genes.end(),
+                     [&](int i) { return calibration.bounds(i).name() == p.name(); }))
+      return absl::InvalidArgumentError(absl::StrCat(
+          "objective.robust.parameters: '", p.name(), "' is not a value calibration ", id,
+          " fits; sampling: fits draws every fitted value from its fits, so list none"));
+  if (fits.empty())
+    return absl::FailedPreconditionError(absl::StrCat(
+        "objective.robust.sampling: fits needs per-recording errors (metrics error_0, "
+        "error_1, ...) of at least two recordings; calibration ", id, " has none"));
+  std::vector<GeneRange> scale;
+  std::vector<bool> log;
+  for (const auto& b : calibration.bounds()) {
+    scale.push_back({b.lo(), b.hi()});
+    log.push_back(b.log());
+  }
+  std::vector<std::vector<double>> pool;
+  for (size_t k : Cover(fits, scale, log, kFitsPool)) pool.push_back(fits[k]);
+  const std::vector<GeneRange> extent = Extent(pool);
+  r->clear_parameters();
+  r->clear_samples();
+  for (int i : genes) {
+    auto* p = r->add_parameters();
+    p->set_name(calibration.bounds(i).name());
+    p->set_lo(extent[i].lo);
+    p->set_hi(extent[i].hi);
+  }
+  for (const auto& x : pool) {
+    auto* sample = r->add_samples();
+    for (int i : genes) sample->add_values(x[i]);
   }
   return absl::OkStatus();
 }
@@ -137,8 +178,12 @@ absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& 
   std::vector<bool> log;
   for (const auto& b : calibration.bounds()) log.push_back(b.log());
   std::vector<GeneRange> ranges = SpreadRanges(best.genes, spread_after(id, hof->first), log);
-  if (spec->objective().has_robust()) ranges = Hull(ranges, LeftOpen(store, id, hof->first, best));
-  return ApplyCalibration(id, calibration, best.genes, ranges, spec);
+  std::vector<std::vector<double>> fits;
+  if (spec->objective().has_robust()) fits = FitsOf(store, id, hof->first, best);
+  ranges = Hull(ranges, Extent(fits));
+  if (auto s = ApplyCalibration(id, calibration, best.genes, ranges, spec); !s.ok()) return s;
+  if (spec->objective().robust().sampling() != "fits") return absl::OkStatus();
+  return ApplyFits(id, calibration, fits, spec);
 }
 
 }  // namespace gaitforge::coordinator

@@ -37,10 +37,23 @@ absl::Status ApplyCalibration(const std::string& id, const v1::StudySpec& calibr
                               const std::vector<double>& best,
                               const std::vector<GeneRange>& ranges, v1::StudySpec* spec);
 
+// The most fits sampling: fits keeps as joint samples (Cover's first ones).
+constexpr size_t kFitsPool = 64;
+
+// For objective.robust.sampling "fits", after ApplyCalibration: the ensemble's parameters
+// become every fitted value (not the nuisances), each over the extent of the pool, and its
+// samples the pool: up to kFitsPool of `fits` (the calibration's genes of every evaluation
+// that fits its recordings as well as its best, best first) spread over the set they fill
+// (Cover). Replaces what the spec's robust lists (a resolved spec submitted again) but
+// refuses a parameter that is not a fitted value; FailedPrecondition without fits.
+absl::Status ApplyFits(const std::string& id, const v1::StudySpec& calibration,
+                       const std::vector<std::vector<double>>& fits, v1::StudySpec* spec);
+
 // ApplyCalibration for objective.from_calibration (no-op when unset). With robust, each
 // gene's range is the hull of best +- 2 sd of the final search spread and of what the
 // recordings leave open: the values of every evaluation the calibration made whose
-// per-recording errors are indistinguishable from its best's (RangesLeftOpen). NotFound for an
+// per-recording errors are indistinguishable from its best's (FitsLeftOpen); with sampling
+// "fits", ApplyFits. NotFound for an
 // unknown study; FailedPrecondition for one not completed, not a calibration, or without a
 // valid best; InvalidArgument when from_diagnosis is set too.
 absl::Status ResolveFromCalibration(storage::StudyStore& store, const SpreadFn& spread_after,

@@ -43,25 +43,63 @@ bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<do
   return mean <= StudentT95(static_cast<int>(n) - 1) * sd / std::sqrt(static_cast<double>(n));
 }
 
+std::vector<std::vector<double>> FitsLeftOpen(
+    const std::vector<storage::IndividualRecord>& evaluated, const storage::IndividualRecord& best,
+    size_t genes) {
+  const std::vector<double> reference = RecordingErrors(best);
+  if (reference.size() < 2 || best.genes.size() != genes) return {};
+  std::vector<std::vector<double>> out = {best.genes};
+  for (const auto& r : evaluated) {
+    if (!r.valid || r.genes.size() != genes) continue;
+    if (r.generation == best.generation && r.member == best.member) continue;
+    if (IndistinguishableFrom(reference, RecordingErrors(r))) out.push_back(r.genes);
+  }
+  return out;
+}
+
+std::vector<GeneRange> Extent(const std::vector<std::vector<double>>& points) {
+  std::vector<GeneRange> out(points.empty() ? 0 : points[0].size());
+  for (const auto& x : points)
+    for (size_t g = 0; g < out.size() && g < x.size(); ++g)
+      out[g] = out[g].ok() ? GeneRange{std::min(out[g].lo, x[g]), std::max(out[g].hi, x[g])}
+                           : GeneRange{x[g], x[g]};
+  return out;
+}
+
 std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
                                       const storage::IndividualRecord& best, size_t genes,
                                       int* accepted) {
-  const std::vector<double> reference = RecordingErrors(best);
-  if (accepted) *accepted = 0;
-  if (reference.size() < 2) return {};
-  std::vector<GeneRange> out(genes);
-  auto widen = [&](const std::vector<double>& x) {
-    for (size_t g = 0; g < genes && g < x.size(); ++g) {
-      out[g].lo = std::isfinite(out[g].lo) ? std::min(out[g].lo, x[g]) : x[g];
-      out[g].hi = std::isfinite(out[g].hi) ? std::max(out[g].hi, x[g]) : x[g];
-    }
+  const auto fits = FitsLeftOpen(evaluated, best, genes);
+  if (accepted) *accepted = static_cast<int>(fits.size());
+  return Extent(fits);
+}
+
+std::vector<size_t> Cover(const std::vector<std::vector<double>>& points,
+                          const std::vector<GeneRange>& scale, const std::vector<bool>& log,
+                          size_t n) {
+  // Coordinates in units of each gene's range (its logarithm's for a log gene).
+  auto coord = [&](double x, size_t g) {
+    const bool ln = g < log.size() && log[g] && scale[g].lo > 0 && x > 0;
+    const double lo = ln ? std::log(scale[g].lo) : scale[g].lo;
+    const double hi = ln ? std::log(scale[g].hi) : scale[g].hi;
+    return hi > lo ? ((ln ? std::log(x) : x) - lo) / (hi - lo) : 0.0;
   };
-  widen(best.genes);
-  for (const auto& r : evaluated) {
-    if (!r.valid || r.genes.size() != genes) continue;
-    if (!IndistinguishableFrom(reference, RecordingErrors(r))) continue;
-    widen(r.genes);
-    if (accepted) ++*accepted;
+  auto distance2 = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double d2 = 0;
+    for (size_t g = 0; g < scale.size() && g < a.size() && g < b.size(); ++g) {
+      const double d = coord(a[g], g) - coord(b[g], g);
+      d2 += d * d;
+    }
+    return d2;
+  };
+  std::vector<double> nearest(points.size(), INFINITY);
+  std::vector<size_t> out;
+  for (size_t next = 0; !points.empty() && out.size() < std::min(n, points.size());) {
+    out.push_back(next);
+    for (size_t i = 0; i < points.size(); ++i)
+      nearest[i] = std::min(nearest[i], distance2(points[i], points[next]));
+    next = std::max_element(nearest.begin(), nearest.end()) - nearest.begin();
+    if (!(nearest[next] > 0)) break;  // the rest repeat chosen points
   }
   return out;
 }

@@ -32,12 +32,30 @@ std::vector<double> RecordingErrors(const storage::IndividualRecord& r);
 // n < 2 or an error is not positive.
 bool IndistinguishableFrom(const std::vector<double>& best, const std::vector<double>& x);
 
-// Per gene (`genes` of them), the extent of the valid evaluations whose recording errors
-// are indistinguishable from best's (best among them). Empty when best has fewer than two
-// recording errors. `accepted`, when given, receives how many evaluations were kept.
+// The genes of best, then of every other valid evaluation whose recording errors are
+// indistinguishable from best's, in the order given. Empty when best has fewer than two
+// recording errors.
+std::vector<std::vector<double>> FitsLeftOpen(
+    const std::vector<storage::IndividualRecord>& evaluated, const storage::IndividualRecord& best,
+    size_t genes);
+
+// Per gene, the extent of the points (as many genes as the first has; empty for none).
+std::vector<GeneRange> Extent(const std::vector<std::vector<double>>& points);
+
+// Per gene (`genes` of them), the extent of FitsLeftOpen. Empty when best has fewer than two
+// recording errors. `accepted`, when given, receives how many evaluations were kept, best
+// among them.
 std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
                                       const storage::IndividualRecord& best, size_t genes,
                                       int* accepted = nullptr);
+
+// Up to n of `points` spread over the set they fill: the first, then each time the point
+// farthest from those chosen (farthest-point order), with distances in units of each
+// gene's `scale` range (its logarithm's where `log`). The indices, in that order. A search's
+// evaluations crowd where it converged; the set the recordings leave open is all of it.
+std::vector<size_t> Cover(const std::vector<std::vector<double>>& points,
+                          const std::vector<GeneRange>& scale, const std::vector<bool>& log,
+                          size_t n);
 
 // Per gene, the hull of a and b (a gene whose range is missing in one takes the other's).
 std::vector<GeneRange> Hull(const std::vector<GeneRange>& a, const std::vector<GeneRange>& b);

@@ -67,6 +67,38 @@ void ValidateNumerics(const gaitforge::v1::Robustness& r, const robots::RobotDes
   }
 }
 
+// The given samples: at most kMaxEnsembleMembers, each one value per parameter inside its
+// range. `sampling` (from_calibration's choice) is one of "", box, fits.
+void ValidateSamples(const gaitforge::v1::StudySpec& spec, std::vector<FieldError>& e) {
+  const auto& r = spec.objective().robust();
+  if (r.sampling() != "" && r.sampling() != "box" && r.sampling() != "fits")
+    e.push_back({"objective.robust.sampling",
+                 absl::StrCat("'", r.sampling(), "' is not one of box, fits")});
+  else if (!r.sampling().empty() && spec.objective().from_calibration().empty())
+    e.push_back({"objective.robust.sampling",
+                 "chooses how a calibration's ranges are sampled; it needs "
+                 "objective.from_calibration"});
+  if (r.samples_size() > kMaxEnsembleMembers)
+    e.push_back({"objective.robust.samples", absl::StrCat("holds ", r.samples_size(),
+                                                          " samples; at most ", kMaxEnsembleMembers)});
+  for (int i = 0; i < r.samples_size() && i < kMaxEnsembleMembers; ++i) {
+    const auto& values = r.samples(i).values();
+    const std::string path = absl::StrCat("objective.robust.samples[", i, "].values");
+    if (values.size() != r.parameters_size()) {
+      e.push_back({path, absl::StrCat("has ", values.size(), " values for ",
+                                      r.parameters_size(), " parameters (one each, in order)")});
+      continue;
+    }
+    for (int j = 0; j < values.size(); ++j) {
+      const auto& p = r.parameters(j);
+      if (!(values[j] >= p.lo() && values[j] <= p.hi()))
+        e.push_back({absl::StrCat(path, "[", j, "]"),
+                     absl::StrCat("= ", values[j], " leaves ", p.name(), "'s range [", p.lo(),
+                                  ", ", p.hi(), "]")});
+    }
+  }
+}
+
 }  // namespace
 
 void ApplyRobustDefaults(gaitforge::v1::StudySpec* spec) {
@@ -118,6 +150,7 @@ void ValidateRobust(const gaitforge::v1::StudySpec& spec, const core::ObjectiveI
                                       spec.objective().robot_descriptor());
   if (!robot.ok()) return;  // the robot's own error is reported with objective.robot
   ValidateNumerics(r, **robot, e);
+  ValidateSamples(spec, e);
   for (int i = 0; i < r.parameters_size(); ++i) {
     const auto& p = r.parameters(i);
     const std::string path = absl::StrCat("objective.robust.parameters[", i, "]");

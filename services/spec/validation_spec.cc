@@ -94,6 +94,8 @@ absl::StatusOr<v1::StudySpec> ValidationSpec(const v1::StudySpec& study,
   // The stored objective holds what a fit resolved to; resolving it again would repeat it.
   out.mutable_objective()->clear_from_calibration();
   out.mutable_objective()->clear_from_diagnosis();
+  // Its samples stay: the fresh seed takes other members from the same pool.
+  out.mutable_objective()->mutable_robust()->clear_sampling();
   out.mutable_objective()->mutable_robust()->set_members(members);
   out.mutable_objective()->mutable_robust()->set_seed(seed);
   *out.mutable_bounds() = study.bounds();

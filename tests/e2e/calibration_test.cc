@@ -185,6 +185,23 @@ cmaes:
       << show;
   EXPECT_EQ(show.find("nuisance.time_offset_s="), std::string::npos) << show;
   EXPECT_NE(RunCommand(cli + "hof " + m[1].str()).out.find("PREDICTED [MIN, MAX]"), std::string::npos);
+  // sampling: fits: each member's force and stiffness are one evaluation of the calibration
+  // that fits both recordings as well as its best, as a pair.
+  WriteFile(dir.File("fits.yaml"),
+            std::regex_replace(std::regex_replace(ReadFile(dir.File("gait.yaml")),
+                                                  std::regex("robust: \\{members: 3\\}"),
+                                                  "robust: {members: 3, sampling: fits}"),
+                               std::regex("name: from-calib"), "name: from-fits"));
+  auto fits = RunCommand(cli + "local fits.yaml --workers 2 --dashboard off");
+  ASSERT_EQ(fits.exit_code, 0) << fits.err;
+  const std::string all = RunCommand(cli + "list --json").out;
+  std::smatch f;
+  ASSERT_TRUE(std::regex_search(all, f, std::regex(R"re("study_id":\s*"(from-fits[^"]*)")re"))) << all;
+  const std::string fits_show = RunCommand(cli + "show " + f[1].str() + " --json").out;
+  EXPECT_TRUE(std::regex_search(
+      fits_show, std::regex(R"re("samples":\s*\[\s*\{\s*"values":\s*\[\s*[0-9.]+,\s*[0-9.]+\s*\]\s*\})re")))
+      << fits_show;
+  EXPECT_EQ(fits_show.find("nuisance.time_offset_s"), std::string::npos) << fits_show;
   // A study that is no calibration is refused, naming the field.
   WriteFile(dir.File("bad-gait.yaml"), std::regex_replace(ReadFile(dir.File("gait.yaml")),
                                                           std::regex("from_calibration: .*"),

@@ -32,6 +32,21 @@ double Sd(const std::vector<double>& values) {
   return std::sqrt(ss / static_cast<double>(values.size() - 1));
 }
 
+// 0 .. n-1 in an order drawn from rng.
+std::vector<int> Shuffle(int n, core::KeyedRng& rng) {
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  for (int i = n - 1; i > 0; --i) std::swap(order[i], order[rng.UniformInt(0, i)]);
+  return order;
+}
+
+// The same from stream `key` of `seed`: parameter j's stratified draw uses key j, so the
+// given samples' order takes key parameters.size(), one no parameter's draw uses.
+std::vector<int> Shuffled(int n, uint64_t seed, size_t key) {
+  core::KeyedRng rng(seed, 0, key, core::Purpose::kEnsemble);
+  return Shuffle(n, rng);
+}
+
 // Metrics averaged over the members, except these, which add up.
 bool Summed(const std::string& metric) { return metric == "simulated_s"; }
 
@@ -65,13 +80,19 @@ std::vector<EnsembleMember> Members(const EnsembleSpec& spec) {
     members[i].numeric = numerics[i % v];
     members[i].start_phase = static_cast<double>((i / v) % p) / p;
   }
+  if (!spec.samples.empty()) {
+    // The given samples in an order drawn from a stream of their own, so that every
+    // parameter keeps the value its sample pairs it with.
+    const int n = static_cast<int>(spec.samples.size());
+    const std::vector<int> order = Shuffled(n, spec.seed, spec.parameters.size());
+    for (int i = 0; i < m; ++i) members[i].values = spec.samples[order[i % n]];
+    return members;
+  }
   // Stratified samples: parameter j's range in m strata, each used once, in an order and
   // at offsets drawn from the parameter's own stream.
   for (size_t j = 0; j < spec.parameters.size(); ++j) {
     core::KeyedRng rng(spec.seed, 0, j, core::Purpose::kEnsemble);
-    std::vector<int> order(m);
-    std::iota(order.begin(), order.end(), 0);
-    for (int i = m - 1; i > 0; --i) std::swap(order[i], order[rng.UniformInt(0, i)]);
+    const std::vector<int> order = Shuffle(m, rng);
     const EnsembleRange& r = spec.parameters[j];
     const double lo = r.log ? std::log(r.lo) : r.lo, hi = r.log ? std::log(r.hi) : r.hi;
     for (int i = 0; i < m; ++i) {

@@ -24,6 +24,9 @@ struct EnsembleSpec {
   int members = 1;
   std::vector<std::string> numerics;  // "" or NAME=VALUE, cycled over the members
   std::vector<EnsembleRange> parameters;
+  // Joint samples of `parameters` (each parallel to it); when given, member i takes
+  // samples[order[i mod N]] instead of a stratified draw, the order drawn from `seed`.
+  std::vector<std::vector<double>> samples;
   int start_phases = 1;
   Statistic statistic = Statistic::kMean;
   double quantile = 0.25;  // kQuantile

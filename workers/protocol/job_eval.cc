@@ -10,6 +10,8 @@ objectives::EnsembleSpec EnsembleOf(const v1::Robustness& r) {
   e.members = r.members();
   e.numerics.assign(r.numerics().begin(), r.numerics().end());
   for (const auto& p : r.parameters()) e.parameters.push_back({p.name(), p.lo(), p.hi(), p.log()});
+  for (const auto& sample : r.samples())
+    e.samples.emplace_back(sample.values().begin(), sample.values().end());
   e.start_phases = r.start_phases();
   objectives::ParseStatistic(r.statistic(), &e.statistic);  // validated with the spec
   e.quantile = r.quantile();

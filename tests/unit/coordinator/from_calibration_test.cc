@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "services/coordinator/corrected_model.h"
+#include "services/spec/spec_validation.h"
 #include "tests/unit/coordinator/calibration_fixture.h"
 
 namespace gaitforge::coordinator {
@@ -70,6 +71,57 @@ TEST(FromCalibration, ALogGenesEnsembleRangeIsSampledLinearly) {
   EXPECT_FALSE(g.objective().robust().parameters(0).log());
   EXPECT_EQ(g.objective().robust().parameters(1).name(), "scale.link_stiffness");
   EXPECT_FALSE(g.objective().robust().parameters(1).log());
+}
+
+// sampling: fits: the ensemble's parameters are the fitted values (no nuisance), its samples
+// the fits themselves as joint values, best first, and the spec passes the validator.
+TEST(FromCalibration, FitsBecomeJointSamplesOfTheFittedValues) {
+  const v1::StudySpec c = Calibration("caterpillar.calibration");
+  std::vector<std::vector<double>> fits = {{9.6, 1.15, 0.01}};
+  for (int i = 0; i < 100; ++i)  // force and stiffness that trade off, as a fit's do
+    fits.push_back({8.0 + 0.03 * i, 1.35 - 0.004 * i, -0.02});
+  v1::StudySpec g = Gait(true);
+  g.set_population(20);
+  g.set_generations(1);
+  g.mutable_objective()->set_from_calibration("cal-1");
+  g.mutable_objective()->mutable_robust()->set_sampling("fits");
+  ASSERT_TRUE(ApplyCalibration("cal-1", c, kBest, SpreadRanges(kBest, kSpread), &g).ok());
+  EXPECT_EQ(g.objective().robust().parameters_size(), 0);  // no box ranges for fits
+  ASSERT_TRUE(ApplyFits("cal-1", c, fits, &g).ok());
+  const auto& r = g.objective().robust();
+  ASSERT_EQ(r.parameters_size(), 2);
+  EXPECT_EQ(r.parameters(1).name(), "scale.link_stiffness");
+  EXPECT_EQ(r.samples_size(), static_cast<int>(kFitsPool));
+  EXPECT_EQ(r.samples(0).values(0), 9.6);  // best first
+  EXPECT_EQ(r.samples(0).values(1), 1.15);
+  EXPECT_DOUBLE_EQ(r.parameters(0).lo(), 8.0);  // the extent of the pool: the ends are in it
+  EXPECT_DOUBLE_EQ(r.parameters(0).hi(), 8.0 + 0.03 * 99);
+  for (const auto& sample : r.samples()) {
+    ASSERT_EQ(sample.values_size(), 2);
+    if (sample.values(0) != 9.6) {  // a pair as fitted, not two independent draws
+      EXPECT_NEAR(sample.values(1), 1.35 - 0.004 * (sample.values(0) - 8.0) / 0.03, 1e-9);
+    }
+  }
+  spec::ApplyDefaults(&g);
+  for (const auto& e : spec::Validate(g)) ADD_FAILURE() << e.path << ": " << e.message;
+  // Submitted again (the stored spec): the same, not twice as many.
+  ASSERT_TRUE(ApplyFits("cal-1", c, fits, &g).ok());
+  EXPECT_EQ(g.objective().robust().samples_size(), static_cast<int>(kFitsPool));
+}
+
+TEST(FromCalibration, FitsRefuseAnUnfittedParameterAndACalibrationWithoutFits) {
+  const v1::StudySpec c = Calibration("caterpillar.calibration");
+  v1::StudySpec g = Gait(true);
+  g.mutable_objective()->mutable_robust()->set_sampling("fits");
+  AddEnsembleRange(g.mutable_objective(), "scale.mass", 0.9, 1.1);
+  auto listed = ApplyFits("cal-1", c, {{9.6, 1.15, 0.0}}, &g);
+  EXPECT_EQ(listed.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(listed.message(), HasSubstr("'scale.mass' is not a value calibration cal-1 fits"));
+  v1::StudySpec plain = Gait(true);
+  plain.mutable_objective()->mutable_robust()->set_sampling("fits");
+  auto none = ApplyFits("cal-1", c, {}, &plain);
+  EXPECT_EQ(none.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(none.message(), HasSubstr("sampling: fits needs per-recording errors"));
 }
 
 TEST(FromCalibration, WithoutRobustOrSpreadOnlyTheValuesAndTheSpecsOwnRangesStay) {

@@ -84,6 +84,34 @@ TEST(OpenRanges, TheExtentOfWhatFitsAsWellSkippingInvalidAndOtherSizes) {
   EXPECT_TRUE(RangesLeftOpen(all, Evaluation(0, 0, {5, 0.5}, {1.0}), 2).empty());
 }
 
+TEST(OpenRanges, TheFitsAreBestFirstThenTheOthersAsGood) {
+  const auto best = Evaluation(3, 0, {5.0, 0.5}, {1.0, 1.0, 1.0});
+  const std::vector<storage::IndividualRecord> all = {
+      Evaluation(1, 2, {3.0, 0.7}, {1.3, 0.8, 0.95}), best,
+      Evaluation(1, 3, {9.0, 0.1}, {2.0, 2.1, 1.9}), Evaluation(2, 4, {4.0, 0.6}, {1.0, 1.1, 0.9})};
+  const auto fits = FitsLeftOpen(all, best, 2);
+  ASSERT_EQ(fits.size(), 3u);  // best once, though it is among the evaluations too
+  EXPECT_EQ(fits[0], best.genes);
+  EXPECT_EQ(fits[1], (std::vector<double>{3.0, 0.7}));
+  EXPECT_EQ(fits[2], (std::vector<double>{4.0, 0.6}));
+}
+
+// Farthest-point order: a crowd where the search converged yields one point, and the
+// corners of the set come before the crowd's other members.
+TEST(OpenRanges, ACoverSpreadsOverTheSetNotItsCrowd) {
+  std::vector<std::vector<double>> points = {{0.50, 1e-4}};
+  for (int i = 0; i < 20; ++i) points.push_back({0.50 + 0.001 * i, 1.1e-4});  // the crowd
+  points.push_back({0.0, 1e-3});
+  points.push_back({1.0, 1e-6});
+  const std::vector<GeneRange> scale = {{0, 1}, {1e-6, 1e-2}};
+  const auto order = Cover(points, scale, {false, true}, 3);
+  ASSERT_EQ(order.size(), 3u);
+  EXPECT_EQ(order[0], 0u);
+  EXPECT_EQ(std::vector<size_t>(order.begin() + 1, order.end()), (std::vector<size_t>{22, 21}));
+  EXPECT_EQ(Cover(points, scale, {false, true}, 100).size(), points.size());
+  EXPECT_TRUE(Cover({}, scale, {}, 4).empty());
+}
+
 TEST(OpenRanges, HullTakesWhatEitherHas) {
   auto h = Hull({{1, 2}, {}, {0, 1}}, {{1.5, 3}, {4, 5}});
   ASSERT_EQ(h.size(), 3u);

@@ -54,6 +54,33 @@ TEST(Ensemble, EachParameterUsesEveryStratumOnceAndDependsOnlyOnTheSeed) {
   EXPECT_NE(Members(other)[0].values[0], a[0].values[0]);
 }
 
+// Given samples are taken whole (a member's values are one sample's), each once while the
+// members do not outnumber them, in an order the seed alone decides.
+TEST(Ensemble, GivenSamplesKeepTheirPairsInAnOrderDrawnFromTheSeed) {
+  EnsembleSpec s = Spec();
+  s.members = 5;
+  for (int k = 0; k < 12; ++k) s.samples.push_back({8.0 + 0.1 * k, 0.9 + 0.01 * k});
+  const auto a = Members(s), b = Members(s);
+  std::set<int> used;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].values.size(), 2u);
+    EXPECT_EQ(a[i].values, b[i].values);
+    const int k = static_cast<int>(std::lround((a[i].values[0] - 8.0) / 0.1));
+    EXPECT_EQ(a[i].values, s.samples[k]);  // the pair as given
+    used.insert(k);
+  }
+  EXPECT_EQ(used.size(), 5u);
+  EnsembleSpec other = s;
+  other.seed = 43;
+  std::vector<std::vector<double>> first, second;
+  for (const auto& m : Members(s)) first.push_back(m.values);
+  for (const auto& m : Members(other)) second.push_back(m.values);
+  EXPECT_NE(first, second);
+  s.members = 30;  // more members than samples: every sample, then again in the same order
+  const auto many = Members(s);
+  for (int i = 12; i < 30; ++i) EXPECT_EQ(many[i].values, many[i - 12].values);
+}
+
 // A range marked log (a calibration's gene searched by its logarithm, spanning decades) is
 // stratified in ln x: each decade of [1e-5, 1e-1] holds a quarter of the members, where a
 // linear sample would put 90% of them in the top decade.

@@ -80,6 +80,25 @@ TEST(RobustSpec, AValidEnsembleIsAccepted) {
   EXPECT_TRUE(spec->objective().robust().parameters(1).log());
 }
 
+// Joint samples: one value per parameter, each inside its range, the line of the bad one
+// named; `sampling` is a from_calibration choice.
+TEST(RobustSpec, SamplesAreCheckedValueByValue) {
+  const std::string two =
+      "    parameters:\n      - {name: scale.link_stiffness, lo: 0.8, hi: 1.25}\n"
+      "      - {name: actuators.force_n, lo: 8, hi: 10}\n";
+  auto spec = Load(two + "    samples:\n      - {values: [0.9, 9.5]}\n      - {values: [1.2, 8]}\n");
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  EXPECT_EQ(spec->objective().robust().samples(1).values(0), 1.2);
+  EXPECT_THAT(Error(two + "    samples:\n      - {values: [0.9]}\n"),
+              HasSubstr("field 'objective.robust.samples[0].values' has 1 values for 2 parameters"));
+  EXPECT_THAT(Error(two + "    samples:\n      - {values: [0.9, 9]}\n      - {values: [0.9, 11]}\n"),
+              AllOf(HasSubstr(":13:"), HasSubstr("field 'objective.robust.samples[1].values[1]' = 11 "
+                                                 "leaves actuators.force_n's range [8, 10]")));
+  EXPECT_THAT(Error("    sampling: posterior\n"),
+              HasSubstr("field 'objective.robust.sampling' 'posterior' is not one of box, fits"));
+  EXPECT_THAT(Error("    sampling: fits\n"), HasSubstr("it needs objective.from_calibration"));
+}
+
 // The caterpillar's 13 genes with the period marked circular, or a phase over half a cycle.
 std::string CircularError(bool mark_period, bool half_phase) {
   std::string text = "population: 10\ngenerations: 2\nga: {elite: 2}\n"
