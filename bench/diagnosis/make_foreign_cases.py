@@ -133,8 +133,18 @@ def main():
                     help="only these cases, comma separated; the others' files and answers stay "
                          "as they are (a batch of another size may differ in the last bits of "
                          "the chaotic trajectories)")
+    ap.add_argument("--extra-train", type=int, default=0, metavar="N",
+                    help="also train on N random gaits (r0 .. rN-1, 12 phases uniform, period "
+                         "0.2 .. 1 s, as bench/transfer.py's calibration gaits): a structure "
+                         "differing everywhere needs more gaits than the effect alone")
     args = ap.parse_args()
     all_cases, folder, rig = BUILDS[args.build]
+    gaits = dict(make_cases.GAITS)
+    rng = np.random.default_rng(3)
+    for i in range(args.extra_train):
+        gaits[f"r{i}"] = ",".join(repr(float(x)) for x in
+                                  list(rng.random(12)) + [float(rng.uniform(0.2, 1.0))])
+    train = make_cases.TRAIN + [f"r{i}" for i in range(args.extra_train)]
     args.out = args.out or os.path.join(make_cases.ROOT, "tests", "diagnosis", folder)
     cases = all_cases
     answers_path = os.path.join(args.out, "answers.sealed.json")
@@ -155,12 +165,12 @@ def main():
         with open(answers_path) as f:
             answers = {k: v for k, v in json.load(f).items() if k not in {c[0] for c in cases}}
     with tempfile.TemporaryDirectory() as tmp:
-        for gi, (g, text) in enumerate(make_cases.GAITS.items()):
+        for gi, (g, text) in enumerate(gaits.items()):
             genes = [float(x) for x in text.split(",")]
             t0 = time.time()
             times, markers = simulate(args.build, genes, [c[1] for c in cases])
             print(f"gait {g}: {len(cases)} runs in {time.time() - t0:.0f} s", flush=True)
-            split = "train" if g in make_cases.TRAIN else "held_out"
+            split = "train" if g in train else "held_out"
             for ci, (case, _, truth, accept, params, seed) in enumerate(cases):
                 raw = os.path.join(tmp, f"{case}-{g}.csv")
                 rig2d.write_csv(raw, times, markers[ci])
@@ -179,7 +189,7 @@ def main():
     for case, *_ in cases:
         with open(os.path.join(args.out, "cases", case, "case.json"), "w") as f:
             f.write(json.dumps({"robot": "caterpillar",
-                                "train": [f"train/gait-{g}.csv" for g in make_cases.TRAIN],
+                                "train": [f"train/gait-{g}.csv" for g in train],
                                 "held_out": [f"held_out/gait-{g}.csv" for g in make_cases.HELD_OUT]},
                                indent=2) + "\n")
     answers = {c[0]: answers[c[0]] for c in all_cases if c[0] in answers}
@@ -189,9 +199,9 @@ def main():
     by_case = {}
     for case, g, d in table:
         by_case.setdefault(case, {})[g] = d
-    print(f"{'case':22s} " + " ".join(f"{g:>8s}" for g in make_cases.GAITS))
+    print(f"{'case':22s} " + " ".join(f"{g:>8s}" for g in gaits))
     for case, ds in by_case.items():
-        print(f"{case:22s} " + " ".join(f"{ds[g]:8.2f}" for g in make_cases.GAITS))
+        print(f"{case:22s} " + " ".join(f"{ds[g]:8.2f}" for g in gaits))
     print(f"done in {time.time() - start:.0f} s")
     return 0
 
