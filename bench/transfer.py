@@ -17,7 +17,9 @@ idealises (STRUCTURE: friction and contact, stiffness and damping, force, lump c
 on all but one of them, and a robust study started from it (`objective.from_calibration`),
 measured on that build. --rounds R repeats it R times, as a user with the robot would:
 each round records the last study's --record-best best distinct gaits on the build and adds
-them to the calibration's recordings, so the next calibration sees what the GA exploited.
+them to the calibration's recordings, so the next calibration sees what the GA exploited;
+each round's gaits are also predicted again by the next round's model (transfer.json's
+`repredicted`: a study's gaits ranked by the model that has seen some of them walk).
 --structure NAMES calibrates only those of STRUCTURE's parameters; --select-structure also
 calibrates each alone and keeps the fit with the lowest training error over the model's
 step and the gap finder's timestep variants (structure chosen by evidence).
@@ -217,14 +219,14 @@ def measure(sets, where, cycles):
     return achieved
 
 
-def validate(args, db, study, sets):
+def validate(args, db, study, sets, label=""):
     """Each gait of `sets` (kind -> [(predicted, genes)]) of robust study `study` over a
     fresh ensemble of --validate members (`gaitforge validate`); kind -> validated means."""
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
     ident = study_id(db, study)
     out = {}
     for kind, gaits in sets.items():
-        path = os.path.join(args.out, f"{study}-{kind}.gaits")
+        path = os.path.join(args.out, f"{label or study}-{kind}.gaits")
         with open(path, "w") as f:
             f.writelines(" ".join(repr(x) for x in genes) + "\n" for _, genes in gaits)
         t0 = time.monotonic()
@@ -493,6 +495,48 @@ def table(sets, where, achieved, walls, validated):
     return rows
 
 
+def recorded_genes(args, build, study):
+    """The genes of `study`'s gaits that --rounds recorded on `build` for the next round."""
+    folder = os.path.join(args.out, f"calibration-{build}")
+    out = []
+    for i in range(args.record_best):
+        path = os.path.join(folder, f"{study}-best{i}.csv.json")
+        if os.path.exists(path):
+            with open(path) as f:
+                out.append(json.load(f)["command"]["genes"])
+    return out
+
+
+def repredicted(args, rounds, sets, where, achieved):
+    """With --rounds: each round's gaits predicted again by the next round's model (the
+    next robust study's objective, `gaitforge validate NEXT --gaits`), against the travel
+    measured; also over the gaits that were not recorded for that model's calibration."""
+    rows = []
+    for (prev, _, build), (study, db, _) in zip(rounds, rounds[1:]):
+        fresh = validate(args, db, study, {k: sets[prev][k] for k in ("best", "spread")},
+                         label=f"{prev}-by-{study}")
+        recorded = recorded_genes(args, build, prev)
+        for b, scen in where[prev]:
+            for kind in ("best", "spread"):
+                genes = [g for _, g in sets[prev][kind]]
+                pred = np.array(fresh[kind])
+                ach = np.array([achieved[(b, prev, kind, i, scen)] for i in range(len(pred))])
+                new = np.array([not any(np.allclose(g, r) for r in recorded) for g in genes])
+                ratio, rho = agreement(pred, ach)
+                u_ratio, u_rho = agreement(pred[new], ach[new])
+                top = int(np.nanargmax(pred))
+                rows.append({"study": prev, "predicted_by": study, "build": b, "scenario": scen,
+                             "set": kind, "gaits": len(pred), "unrecorded": int(new.sum()),
+                             "predicted_cm": 100 * np.nanmean(pred),
+                             "achieved_cm": 100 * np.nanmean(ach), "ratio": ratio,
+                             "spearman": rho, "unrecorded_ratio": u_ratio,
+                             "unrecorded_spearman": u_rho, "top_predicted_gait_cm": 100 * ach[top]})
+                print(f"{prev} {kind} predicted by {study}: ratio {ratio:.2f} rho {rho:.2f}; "
+                      f"{int(new.sum())} unrecorded: {u_ratio:.2f} {u_rho:.2f}; the gait it "
+                      f"ranks first achieves {100 * ach[top]:.2f} cm", flush=True)
+    return rows
+
+
 def per_gait(sets, where, achieved, validated):
     """Every measured gait: its genes, the study's prediction, the fresh ensemble's (None
     without --validate) and its travel on each (build, scenario), metres per cycle."""
@@ -634,17 +678,20 @@ def main():
             study = f"diagnosed-{build}"
             sets[study], where[study], walls[study] = gait_sets(db, True, args.gaits, study), [(build, STRONG_HOSE)], wall
             check(db, study)
-    fits = {}
+    fits, rounds = {}, {}
     for build in BUILDS if args.calibrate else ():
         for study, db, wall, fits[study] in calibrate_and_evolve(args, build):
+            rounds.setdefault(build, []).append((study, db, build))
             sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
                                                        [(build, "nothing concealed")], wall)
             check(db, study)
     achieved = measure(sets, where, args.cycles)
     rows = table(sets, where, achieved, walls, validated)
     gaits = per_gait(sets, where, achieved, validated)
+    again = [r for build in rounds for r in repredicted(args, rounds[build], sets, where, achieved)]
     with open(os.path.join(args.out, "transfer.json"), "w") as f:
-        json.dump({"rows": rows, "population": args.population, "generations": args.generations,
+        json.dump({"rows": rows, "repredicted": again,
+                   "population": args.population, "generations": args.generations,
                    "paper_long_generations": longer, "diagnoses": named,
                    "calibrations": fits, "gaits": gaits}, f, indent=1)
     plot(gaits, os.path.join(args.out, "transfer.svg"))
