@@ -66,14 +66,6 @@ std::vector<GeneRange> Extent(const std::vector<std::vector<double>>& points) {
   return out;
 }
 
-std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
-                                      const storage::IndividualRecord& best, size_t genes,
-                                      int* accepted) {
-  const auto fits = FitsLeftOpen(evaluated, best, genes);
-  if (accepted) *accepted = static_cast<int>(fits.size());
-  return Extent(fits);
-}
-
 std::vector<size_t> Cover(const std::vector<std::vector<double>>& points,
                           const std::vector<GeneRange>& scale, const std::vector<bool>& log,
                           size_t n) {

@@ -42,13 +42,6 @@ std::vector<std::vector<double>> FitsLeftOpen(
 // Per gene, the extent of the points (as many genes as the first has; empty for none).
 std::vector<GeneRange> Extent(const std::vector<std::vector<double>>& points);
 
-// Per gene (`genes` of them), the extent of FitsLeftOpen. Empty when best has fewer than two
-// recording errors. `accepted`, when given, receives how many evaluations were kept, best
-// among them.
-std::vector<GeneRange> RangesLeftOpen(const std::vector<storage::IndividualRecord>& evaluated,
-                                      const storage::IndividualRecord& best, size_t genes,
-                                      int* accepted = nullptr);
-
 // Up to n of `points` spread over the set they fill: the first, then each time the point
 // farthest from those chosen (farthest-point order), with distances in units of each
 // gene's `scale` range (its logarithm's where `log`). The indices, in that order. A search's

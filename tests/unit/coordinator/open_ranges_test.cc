@@ -73,15 +73,15 @@ TEST(OpenRanges, TheExtentOfWhatFitsAsWellSkippingInvalidAndOtherSizes) {
       Evaluation(2, 0, {1.0, 0.9}, {1.0, 1.0, 1.0}, false),  // invalid
       Evaluation(2, 1, {7.0}, {1.0, 1.0, 1.0}),         // another gene count
   };
-  int accepted = -1;
-  auto r = RangesLeftOpen(all, best, 2, &accepted);
+  const auto fits = FitsLeftOpen(all, best, 2);
+  EXPECT_EQ(fits.size(), 2u);  // best itself and the one as good
+  auto r = Extent(fits);
   ASSERT_EQ(r.size(), 2u);
-  EXPECT_EQ(accepted, 2);  // best itself and the one as good
   EXPECT_DOUBLE_EQ(r[0].lo, 3.0);
   EXPECT_DOUBLE_EQ(r[0].hi, 5.0);
   EXPECT_DOUBLE_EQ(r[1].lo, 0.5);
   EXPECT_DOUBLE_EQ(r[1].hi, 0.7);
-  EXPECT_TRUE(RangesLeftOpen(all, Evaluation(0, 0, {5, 0.5}, {1.0}), 2).empty());
+  EXPECT_TRUE(Extent(FitsLeftOpen(all, Evaluation(0, 0, {5, 0.5}, {1.0}), 2)).empty());
 }
 
 TEST(OpenRanges, TheFitsAreBestFirstThenTheOthersAsGood) {
