@@ -242,6 +242,7 @@ struct ValidateOptions {
   uint64_t seed = 0;      // 0: the study's ensemble seed + 1
   int top = 0;            // hall-of-fame gaits to validate; 0: all
   std::string gaits;      // a file of gaits instead of the hall of fame
+  std::string from_calibration;  // a calibration whose model predicts them; "": the study's
 };
 int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, int workers,
                 int threads, const ValidateOptions& v);

@@ -87,9 +87,16 @@ std::vector<CommandHelp> Build() {
        "--ensemble-seed S (default the study's ensemble seed + 1). The study ranked every gait\n"
        "on the same few members, so the mean of the gaits it kept is optimistic; the fresh\n"
        "mean is not. Runs as a study of its own (a sweep, one level per gait; local workers,\n"
-       "or --coordinator's) and prints RANK FITNESS PREDICTED VALIDATED [MIN, MAX] SD per gait\n"
-       "(--json: each gait's genes and validated mean, sd, min, max).",
-       Connection({"members", "ensemble-seed", "top", "gaits", "workers", "threads", "json"}),
+       "or --coordinator's) and prints RANK NOW FITNESS PREDICTED VALIDATED [MIN, MAX] SD per\n"
+       "gait, NOW its rank by the validated fitness (--json: each gait's genes, validated\n"
+       "rank and validated mean, sd, min, max).\n\n"
+       "--from-calibration CAL predicts them with calibration CAL's model instead: its fitted\n"
+       "values and the ranges it leaves open replace the study's (as from_calibration makes\n"
+       "them for a new study). After recording the best gaits and calibrating again on all\n"
+       "recordings, this ranks the first study's gaits by the better model, with no second\n"
+       "evolution: NOW is the order to try them on the robot in.",
+       Connection({"members", "ensemble-seed", "top", "gaits", "from-calibration", "workers",
+                   "threads", "json"}),
        "gaitforge validate robust-walk-1c2d3e --members 24 --top 5"},
       {"diagnose", "SPEC",
        "the gap finder: locate a sim-to-real mismatch, name the missing physics,\n"

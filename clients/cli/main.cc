@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
   flags.Add("gaits", &validate.gaits,
             "validate: a file of gaits to validate instead, one per line (genes separated by "
             "spaces or commas)");
+  flags.Add("from-calibration", &validate.from_calibration,
+            "validate: predict the gaits with this calibration study's model and open ranges "
+            "instead of the study's own");
   std::string dashboard = "127.0.0.1:0";
   flags.Add("dashboard", &dashboard,
             "local/resume/diagnose/dashboard: serve the web dashboard at HOST:PORT (port 0: any "

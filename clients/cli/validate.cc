@@ -30,6 +30,7 @@ struct Row {
   double fitness = kNaN;       // the study's (hall-of-fame gaits only)
   double predicted = kNaN;     // the study's ensemble mean (hall-of-fame gaits only)
   v1::Evaluation validated = NotEvaluated();
+  int fresh_rank = -1;         // rank by the validated fitness among the valid; -1: invalid
 };
 
 double Metric(const v1::Evaluation& e, const std::string& name) {
@@ -44,6 +45,7 @@ int Request(const std::string& id, const v1::StudySpec& study, const ValidateOpt
   r->set_members(v.members);
   r->set_seed(v.seed);
   r->set_top(v.top);
+  r->set_from_calibration(v.from_calibration);
   if (v.gaits.empty()) return kOk;
   auto text = core::ReadWholeFile(v.gaits);
   if (!text.ok()) {
@@ -121,11 +123,27 @@ int ReadValidation(Connection& conn, const GlobalOptions& g, const std::string& 
   return kOk;
 }
 
+// Each valid row's rank (0 = best) by its validated fitness, ties in the rows' order.
+void RankByValidation(std::vector<Row>* rows) {
+  std::vector<Row*> valid;
+  for (Row& r : *rows)
+    if (r.validated.valid()) valid.push_back(&r);
+  std::stable_sort(valid.begin(), valid.end(), [](const Row* a, const Row* b) {
+    return a->validated.fitness() > b->validated.fitness();
+  });
+  for (size_t i = 0; i < valid.size(); ++i) valid[i]->fresh_rank = static_cast<int>(i);
+}
+
+std::string Rank(int rank) { return rank < 0 ? "null" : std::to_string(rank); }
+
 std::string Num(double x) { return std::isfinite(x) ? absl::StrFormat("%.17g", x) : "null"; }
 
 void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpec& spec,
                const std::vector<Row>& rows) {
   std::cout << "{\"study_id\": " << JsonQuote(id) << ", \"validation_study_id\": " << JsonQuote(vid)
+            << ", \"from_calibration\": "
+            << (spec.validate().from_calibration().empty()
+                    ? "null" : JsonQuote(spec.validate().from_calibration()))
             << ", \"members\": " << spec.objective().robust().members()
             << ", \"seed\": " << spec.objective().robust().seed() << ", \"gaits\": [";
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -133,8 +151,8 @@ void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpe
     const v1::Evaluation& e = r.validated;
     std::vector<std::string> genes;
     for (double x : r.genes) genes.push_back(Num(x));
-    std::cout << (i ? ", " : "") << "{\"rank\": " << (r.rank < 0 ? "null" : std::to_string(r.rank))
-              << ", \"genes\": ["
+    std::cout << (i ? ", " : "") << "{\"rank\": " << Rank(r.rank)
+              << ", \"validated_rank\": " << Rank(r.fresh_rank) << ", \"genes\": ["
               << absl::StrJoin(genes, ", ") << "], \"fitness\": " << Num(r.fitness)
               << ", \"predicted\": " << Num(r.predicted) << ", \"valid\": "
               << (e.valid() ? "true" : "false") << ", \"reason\": " << JsonQuote(e.reason())
@@ -148,11 +166,14 @@ void PrintJson(const std::string& id, const std::string& vid, const v1::StudySpe
 
 void PrintTable(const std::string& id, const std::string& vid, const v1::StudySpec& spec,
                 const std::vector<Row>& rows) {
+  const std::string& cal = spec.validate().from_calibration();
   std::cout << rows.size() << " gaits of " << id << " over a fresh ensemble of "
             << spec.objective().robust().members() << " members (seed "
-            << spec.objective().robust().seed() << "): study " << vid << "\n"
-            << absl::StrFormat("%4s %12s %12s  %-34s %10s\n", "RANK", "FITNESS", "PREDICTED",
-                               "VALIDATED MEAN [MIN, MAX]", "SD");
+            << spec.objective().robust().seed() << ")"
+            << (cal.empty() ? "" : " of calibration " + cal + "'s model") << ": study " << vid
+            << "\n"
+            << absl::StrFormat("%4s %5s %12s %12s  %-34s %10s\n", "RANK", "NOW", "FITNESS",
+                               "PREDICTED", "VALIDATED MEAN [MIN, MAX]", "SD");
   double predicted = 0, validated = 0;
   int both = 0;
   for (const Row& r : rows) {
@@ -161,9 +182,10 @@ void PrintTable(const std::string& id, const std::string& vid, const v1::StudySp
         e.valid() ? absl::StrFormat("%.4g [%.4g, %.4g]", Metric(e, "robust.mean"),
                                     Metric(e, "robust.min"), Metric(e, "robust.max"))
                   : "invalid: " + e.reason().substr(0, 60);
-    std::cout << absl::StrFormat("%4s %12.6g %12.6g  %-34s %10.4g\n",
-                                 r.rank < 0 ? "-" : std::to_string(r.rank), r.fitness, r.predicted,
-                                 mean, Metric(e, "robust.sd"));
+    std::cout << absl::StrFormat("%4s %5s %12.6g %12.6g  %-34s %10.4g\n",
+                                 r.rank < 0 ? "-" : std::to_string(r.rank),
+                                 r.fresh_rank < 0 ? "-" : std::to_string(r.fresh_rank), r.fitness,
+                                 r.predicted, mean, Metric(e, "robust.sd"));
     if (e.valid() && std::isfinite(r.predicted)) {
       predicted += r.predicted;
       validated += Metric(e, "robust.mean");
@@ -182,7 +204,7 @@ int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, in
                 int threads, const ValidateOptions& v) {
   if (args.size() != 1) {
     std::cerr << "gaitforge: usage: gaitforge validate STUDY_ID [--members M] [--ensemble-seed S] "
-                 "[--top N | --gaits FILE]\n";
+                 "[--top N | --gaits FILE] [--from-calibration CAL]\n";
     return kUsage;
   }
   int code = kOk;
@@ -206,6 +228,7 @@ int CmdValidate(const GlobalOptions& g, const std::vector<std::string>& args, in
     return ReportRpcError(s, "validate " + args[0]);
   std::vector<Row> rows = Rows(validation.spec().validate(), *hof);
   if (int c = ReadValidation(*conn, g, vid, &rows); c) return c;
+  RankByValidation(&rows);
   const v1::StudySpec& spec = validation.spec();
   if (g.json)
     PrintJson(args[0], vid, spec, rows);

@@ -92,9 +92,9 @@ absl::StatusOr<std::unique_ptr<engines::Engine>> Coordinator::MakeEngine(
 absl::StatusOr<v1::StudySummary> Coordinator::CreateStudy(v1::StudySpec spec) {
   if (options_.read_only)
     return absl::FailedPreconditionError("this coordinator is read-only; it takes no new study");
-  if (auto s = ResolveValidation(*store_, &spec); !s.ok()) return s;
-  if (auto s = ResolveFromDiagnosis(*store_, &spec); !s.ok()) return s;
   const SpreadFn spread = [this](const std::string& id, int g) { return SpreadAfter(id, g); };
+  if (auto s = ResolveValidation(*store_, spread, &spec); !s.ok()) return s;
+  if (auto s = ResolveFromDiagnosis(*store_, &spec); !s.ok()) return s;
   if (auto s = ResolveFromCalibration(*store_, spread, &spec); !s.ok()) return s;
   spec::ApplyDefaults(&spec);
   if (auto s = spec::ValidationStatus(spec::Validate(spec)); !s.ok()) return s;

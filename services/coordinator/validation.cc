@@ -1,6 +1,7 @@
 #include "services/coordinator/validation.h"
 
 #include "absl/strings/str_cat.h"
+#include "services/coordinator/validation_model.h"
 #include "services/spec/validation_spec.h"
 
 namespace gaitforge::coordinator {
@@ -53,7 +54,8 @@ absl::Status HallOfFameGaits(storage::StudyStore& store, const std::string& id,
 
 }  // namespace
 
-absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec) {
+absl::Status ResolveValidation(storage::StudyStore& store, const SpreadFn& spread_after,
+                               v1::StudySpec* spec) {
   if (!spec->has_validate() || Resolved(*spec)) return absl::OkStatus();
   if (auto s = OnlyTheRequest(*spec); !s.ok()) return s;
   v1::Validation request = spec->validate();
@@ -72,6 +74,10 @@ absl::Status ResolveValidation(storage::StudyStore& store, v1::StudySpec* spec) 
     return absl::InvalidArgumentError(absl::StrCat(kField, ": ", s.message()));
   if (request.gaits().empty())
     if (auto s = HallOfFameGaits(store, id, &request); !s.ok()) return s;
+  if (!request.from_calibration().empty())
+    if (auto s = RebaseOnCalibration(store, spread_after, request.from_calibration(), &study);
+        !s.ok())
+      return s;
   auto out = spec::ValidationSpec(study, request);
   if (!out.ok()) return absl::InvalidArgumentError(absl::StrCat(kField, ": ", out.status().message()));
   *spec = std::move(*out);

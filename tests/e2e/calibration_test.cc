@@ -53,6 +53,45 @@ std::string MapCells(const std::string& csv,
   return out;
 }
 
+// validate --from-calibration: a study's gaits predicted by a calibration's model. On the
+// calibration the study came from (`study` of calibration `cal`, with gait.yaml its spec)
+// that is its own validation, bit for bit; on a study of the default model, the
+// calibration's values replace the model's.
+void ExpectValidationFromCalibration(const std::string& cli, TempDir& dir, const std::string& cal,
+                                     const std::string& study) {
+  auto means = [](const std::string& json) {
+    std::vector<std::string> out;
+    const std::regex mean(R"re("mean": ([^,}]+))re");
+    for (auto it = std::sregex_iterator(json.begin(), json.end(), mean); it != std::sregex_iterator(); ++it)
+      out.push_back((*it)[1]);
+    return out;
+  };
+  const std::string validate = cli + "validate " + study + " --top 2 --json --members 3";
+  auto own = RunCommand(validate);
+  auto rebased = RunCommand(validate + " --from-calibration " + cal);
+  ASSERT_EQ(own.exit_code, 0) << own.err;
+  ASSERT_EQ(rebased.exit_code, 0) << rebased.err;
+  EXPECT_EQ(means(own.out).size(), 2u) << own.out;
+  EXPECT_EQ(means(rebased.out), means(own.out)) << rebased.out;
+  EXPECT_NE(rebased.out.find("\"from_calibration\": \"" + cal + "\""), std::string::npos);
+  WriteFile(dir.File("plain.yaml"),
+            std::regex_replace(std::regex_replace(ReadFile(dir.File("gait.yaml")),
+                                                  std::regex("  from_calibration: .*\n"), ""),
+                               std::regex("name: from-calib"), "name: plain"));
+  ASSERT_EQ(RunCommand(cli + "local plain.yaml --workers 2 --dashboard off").exit_code, 0);
+  std::smatch p;
+  const std::string listed = RunCommand(cli + "list --json").out;
+  ASSERT_TRUE(std::regex_search(listed, p, std::regex(R"re("study_id":\s*"(plain[^"]*)")re"))) << listed;
+  const std::string plain = cli + "validate " + p[1].str() + " --top 2 --json --members 3";
+  auto plain_own = RunCommand(plain), plain_cal = RunCommand(plain + " --from-calibration " + cal);
+  ASSERT_EQ(plain_cal.exit_code, 0) << plain_cal.err;
+  EXPECT_NE(means(plain_cal.out), means(plain_own.out)) << plain_cal.out;
+  std::smatch v;
+  ASSERT_TRUE(std::regex_search(plain_cal.out, v, std::regex(R"re("validation_study_id": "([^"]+)")re")));
+  EXPECT_TRUE(std::regex_search(RunCommand(cli + "show " + v[1].str() + " --json").out,
+                                std::regex(R"re("set":\s*"actuators.force_n=[0-9.]+,scale.link_stiffness=[0-9.]+")re")));
+}
+
 TEST(Calibration, RecoversKnownParametersAndImprovesTheFit) {
   TempDir dir;
   const std::string sim = Bin("gaitforge-sim");
@@ -202,6 +241,7 @@ cmaes:
       fits_show, std::regex(R"re("samples":\s*\[\s*\{\s*"values":\s*\[\s*[0-9.]+,\s*[0-9.]+\s*\]\s*\})re")))
       << fits_show;
   EXPECT_EQ(fits_show.find("nuisance.time_offset_s"), std::string::npos) << fits_show;
+  ExpectValidationFromCalibration(cli, dir, id, m[1].str());
   // A study that is no calibration is refused, naming the field.
   WriteFile(dir.File("bad-gait.yaml"), std::regex_replace(ReadFile(dir.File("gait.yaml")),
                                                           std::regex("from_calibration: .*"),

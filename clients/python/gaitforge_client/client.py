@@ -153,14 +153,17 @@ class Client:
                            self._pb.ListIndividualsRequest(study_id=study_id, generation=generation))
         return tables.table([tables.individual(i) for i in reply.individuals], as_dataframe)
 
-    def validate(self, study_id, members=0, ensemble_seed=0, top=0, gaits=None):
+    def validate(self, study_id, members=0, ensemble_seed=0, top=0, gaits=None,
+                 from_calibration=""):
         """Creates the validation study of robust study `study_id` (docs/objectives.md,
         "Validation"): its hall-of-fame gaits (the first `top`; 0: all), or `gaits` (lists of
         genes), each over a fresh ensemble of `members` members (0: four times the study's)
-        drawn from `ensemble_seed` (0: the study's ensemble seed + 1). Returns the new study's
+        drawn from `ensemble_seed` (0: the study's ensemble seed + 1), with the study's model
+        or, given `from_calibration`, that calibration study's. Returns the new study's
         id; `watch` it, then `individuals(id, 0)` gives gait i as member i, its prediction in
         metrics robust.mean."""
-        request = {"study_id": study_id, "members": members, "seed": ensemble_seed, "top": top}
+        request = {"study_id": study_id, "members": members, "seed": ensemble_seed, "top": top,
+                   "from_calibration": from_calibration}
         if gaits is not None:
             request["gaits"] = [{"genes": [float(x) for x in g]} for g in gaits]
         return self._create({"validate": request})

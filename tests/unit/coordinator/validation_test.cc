@@ -16,6 +16,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
+const SpreadFn NoSpread = [](const std::string&, int) { return std::vector<double>{}; };
+
 v1::StudySpec Robust(bool robust) {
   auto loaded = spec::ParseSpec(std::string("name: walk\nseed: 9\npopulation: 10\ngenerations: 2\n"
                                             "objective:\n  name: caterpillar.distance\n") +
@@ -65,10 +67,10 @@ TEST(Validation, TheStudysValidGaitsBecomeTheLevelsOfAFreshEnsemble) {
   testing::TempDir dir;
   auto store = Store(dir, "walk-1", true, {Entry(0, 0.1, true), Entry(1, 0.2, false), Entry(2, 0.3, true)});
   v1::StudySpec none;
-  EXPECT_TRUE(ResolveValidation(*store, &none).ok());  // no validate: untouched
+  EXPECT_TRUE(ResolveValidation(*store, NoSpread, &none).ok());  // no validate: untouched
   EXPECT_EQ(none.engine(), "");
   v1::StudySpec s = Request("walk-1");
-  ASSERT_TRUE(ResolveValidation(*store, &s).ok());
+  ASSERT_TRUE(ResolveValidation(*store, NoSpread, &s).ok());
   EXPECT_EQ(s.name(), "walk-validation");
   EXPECT_EQ(s.engine(), "sweep");
   ASSERT_EQ(s.validate().gaits_size(), 2);  // the invalid entry is left out
@@ -79,11 +81,11 @@ TEST(Validation, TheStudysValidGaitsBecomeTheLevelsOfAFreshEnsemble) {
   spec::ApplyDefaults(&s);
   EXPECT_TRUE(spec::Validate(s).empty());
   v1::StudySpec first = Request("walk-1", 1);
-  ASSERT_TRUE(ResolveValidation(*store, &first).ok());
+  ASSERT_TRUE(ResolveValidation(*store, NoSpread, &first).ok());
   EXPECT_EQ(first.validate().gaits_size(), 1);
   // A stored validation study submitted again is left as it is, and valid.
   v1::StudySpec again = s;
-  ASSERT_TRUE(ResolveValidation(*store, &again).ok());
+  ASSERT_TRUE(ResolveValidation(*store, NoSpread, &again).ok());
   EXPECT_EQ(again.SerializeAsString(), s.SerializeAsString());
 }
 
@@ -91,25 +93,25 @@ TEST(Validation, RefusesAnUnknownStudyAnOwnObjectiveNoEnsembleAndNoValidGait) {
   testing::TempDir dir;
   auto store = Store(dir, "walk-1", true, {Entry(0, 0.1, true)});
   v1::StudySpec unknown = Request("walk-2");
-  EXPECT_EQ(ResolveValidation(*store, &unknown).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(ResolveValidation(*store, NoSpread, &unknown).code(), absl::StatusCode::kNotFound);
   v1::StudySpec own = Request("walk-1");
   own.mutable_objective()->set_name("caterpillar.distance");
-  auto s = ResolveValidation(*store, &own);
+  auto s = ResolveValidation(*store, NoSpread, &own);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(s.message(), HasSubstr("takes its objective from the study it validates"));
   v1::StudySpec calibrated = Request("walk-1");
   calibrated.mutable_objective()->set_from_calibration("cal-1");
-  EXPECT_THAT(ResolveValidation(*store, &calibrated).message(), HasSubstr("leave 'objective' out"));
+  EXPECT_THAT(ResolveValidation(*store, NoSpread, &calibrated).message(), HasSubstr("leave 'objective' out"));
   v1::StudySpec both = Request("walk-1", 2);
   *both.mutable_validate()->add_gaits() = v1::Gait();
-  EXPECT_THAT(ResolveValidation(*store, &both).message(), HasSubstr("with gaits given"));
+  EXPECT_THAT(ResolveValidation(*store, NoSpread, &both).message(), HasSubstr("with gaits given"));
   // Without an ensemble the study is refused for that, whatever its hall of fame holds.
   auto plain = Store(dir, "paper-1", false, {Entry(0, 0.1, false)});
   v1::StudySpec p = Request("paper-1");
-  EXPECT_THAT(ResolveValidation(*plain, &p).message(), HasSubstr("has no objective.robust"));
+  EXPECT_THAT(ResolveValidation(*plain, NoSpread, &p).message(), HasSubstr("has no objective.robust"));
   auto failed = Store(dir, "bad-1", true, {Entry(0, 0.1, false)});
   v1::StudySpec b = Request("bad-1");
-  s = ResolveValidation(*failed, &b);
+  s = ResolveValidation(*failed, NoSpread, &b);
   EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_THAT(s.message(), HasSubstr("hall of fame holds no valid gait"));
 }
