@@ -20,6 +20,9 @@ each round records the last study's --record-best best distinct gaits on the bui
 them to the calibration's recordings, so the next calibration sees what the GA exploited;
 each round's gaits are also predicted again by the next round's model (transfer.json's
 `repredicted`: a study's gaits ranked by the model that has seen some of them walk).
+--rerank (with --rounds 2) skips the second evolution: the second calibration runs in the
+first round's database and ranks the first study's gaits by itself (`gaitforge validate
+STUDY --from-calibration CAL`), the product's one-command form of that step.
 --structure NAMES calibrates only those of STRUCTURE's parameters; --select-structure also
 calibrates each alone and keeps the fit with the lowest training error over the model's
 step and the gap finder's timestep variants (structure chosen by evidence).
@@ -219,9 +222,10 @@ def measure(sets, where, cycles):
     return achieved
 
 
-def validate(args, db, study, sets, label=""):
+def validate(args, db, study, sets, label="", calibration=""):
     """Each gait of `sets` (kind -> [(predicted, genes)]) of robust study `study` over a
-    fresh ensemble of --validate members (`gaitforge validate`); kind -> validated means."""
+    fresh ensemble of --validate members (`gaitforge validate`; with `calibration`, of that
+    calibration's model: --from-calibration); kind -> validated means."""
     gf = [os.path.join(args.bin, "gaitforge"), "--db", db]
     ident = study_id(db, study)
     out = {}
@@ -230,8 +234,9 @@ def validate(args, db, study, sets, label=""):
         with open(path, "w") as f:
             f.writelines(" ".join(repr(x) for x in genes) + "\n" for _, genes in gaits)
         t0 = time.monotonic()
+        extra = ["--from-calibration", calibration] if calibration else []
         r = subprocess.run(gf + ["validate", ident, "--gaits", path, "--members", str(args.validate),
-                                 "--workers", "2", "--json"], capture_output=True, text=True)
+                                 "--workers", "2", "--json"] + extra, capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"transfer: validate {study} {kind} failed ({r.returncode}): {r.stderr[-2000:]}")
         rows = json.loads(r.stdout)["gaits"]
@@ -412,19 +417,29 @@ def calibrate_and_evolve(args, build):
     evolves robustly from that calibration; with --rounds R, R times, each round adding the
     --record-best best distinct gaits of the last study, recorded on the build, to the
     calibration's training recordings. Yields (study name, db, wall seconds, the fit) per
-    round."""
+    round; with --rerank the second round only calibrates, in the first round's database, and
+    yields the calibration's name, its fit holding `rerank`: its study id."""
     folder = os.path.join(args.out, f"calibration-{build}")
     os.makedirs(folder, exist_ok=True)
     paths = record_gaits(build, folder, {})
     training, held_out = paths[:-1], paths[-1]
     for rnd in range(args.rounds):
         base = f"calibrated-{build}" + (f"-r{rnd + 1}" if rnd else "")
-        db = os.path.join(args.out, f"{base}.db")
-        if os.path.exists(db) and not args.reuse:
+        rerank = args.rerank and rnd > 0
+        if not rerank:
+            db = os.path.join(args.out, f"{base}.db")
+        if os.path.exists(db) and not args.reuse and not rerank:
             os.remove(db)
         t0 = time.monotonic()
         ident, fit, chosen, errors = select_structure(args, build, folder, db, f"structure-{base}",
                                                       training, held_out)
+        if rerank:
+            print(f"calibration {base} on {len(training)} recordings, kept {chosen}: {fit} "
+                  f"({time.monotonic() - t0:.0f} s); it ranks {study}'s gaits", flush=True)
+            yield f"structure-{base}", db, time.monotonic() - t0, {
+                "fit": fit, "recordings": len(training), "family": chosen, "rerank": ident,
+                "training_errors_at_steps": errors}
+            break
         # The robust study is named for the family it starts from, so --reuse finds its own.
         study = (base if chosen == "family" else f"{base}-{chosen}") + (
             f"-seed{args.seed}" if args.seed != 1 else "") + (f"-{args.tag}" if args.tag else "")
@@ -470,12 +485,16 @@ def recorded_genes(args, build, study):
 
 def repredicted(args, rounds, sets, where, achieved):
     """With --rounds: each round's gaits predicted again by the next round's model (the
-    next robust study's objective, `gaitforge validate NEXT --gaits`), against the travel
+    next robust study's objective, `gaitforge validate NEXT --gaits`; with --rerank the next
+    calibration's, `gaitforge validate PREV --from-calibration CAL`), against the travel
     measured; also over the gaits that were not recorded for that model's calibration."""
     rows = []
-    for (prev, _, build), (study, db, _) in zip(rounds, rounds[1:]):
-        fresh = validate(args, db, study, {k: sets[prev][k] for k in ("best", "spread")},
-                         label=f"{prev}-by-{study}")
+    for (prev, prev_db, build, _), (study, db, _, cal) in zip(rounds, rounds[1:]):
+        kept = {k: sets[prev][k] for k in ("best", "spread")}
+        t0 = time.monotonic()
+        fresh = (validate(args, prev_db, prev, kept, label=f"{prev}-by-{study}", calibration=cal)
+                 if cal else validate(args, db, study, kept, label=f"{prev}-by-{study}"))
+        wall = time.monotonic() - t0
         recorded = recorded_genes(args, build, prev)
         for b, scen in where[prev]:
             for kind in ("best", "spread"):
@@ -491,7 +510,8 @@ def repredicted(args, rounds, sets, where, achieved):
                              "predicted_cm": 100 * np.nanmean(pred),
                              "achieved_cm": 100 * np.nanmean(ach), "ratio": ratio,
                              "spearman": rho, "unrecorded_ratio": u_ratio,
-                             "unrecorded_spearman": u_rho, "top_predicted_gait_cm": 100 * ach[top]})
+                             "unrecorded_spearman": u_rho, "top_predicted_gait_cm": 100 * ach[top],
+                             "validate_wall_s": wall})
                 print(f"{prev} {kind} predicted by {study}: ratio {ratio:.2f} rho {rho:.2f}; "
                       f"{int(new.sum())} unrecorded: {u_ratio:.2f} {u_rho:.2f}; the gait it "
                       f"ranks first achieves {100 * ach[top]:.2f} cm", flush=True)
@@ -524,6 +544,9 @@ def main():
                     help="--calibrate: calibrate and evolve this many times, each round "
                          "recording the last study's --record-best best gaits on the build "
                          "and adding them to the calibration")
+    ap.add_argument("--rerank", action="store_true",
+                    help="--rounds 2: the second round calibrates only and ranks the first "
+                         "study's gaits by that calibration (validate --from-calibration)")
     ap.add_argument("--record-best", type=int, default=5,
                     help="--rounds: gaits recorded per round")
     ap.add_argument("--reuse", action="store_true",
@@ -561,6 +584,8 @@ def main():
     structure_family(args)  # an unknown --structure name stops here, before any recording
     if args.rounds < 1 or args.record_best < 1:
         sys.exit(f"--rounds and --record-best: at least 1 (got {args.rounds}, {args.record_best})")
+    if args.rerank and args.rounds != 2:
+        sys.exit(f"--rerank: with --rounds 2 (got --rounds {args.rounds})")
     builds = args.builds.split(",")
     unknown = sorted(set(builds) - set(BUILDS))
     if unknown:
@@ -597,7 +622,9 @@ def main():
     fits, rounds = {}, {}
     for build in BUILDS if args.calibrate else ():
         for study, db, wall, fits[study] in calibrate_and_evolve(args, build):
-            rounds.setdefault(build, []).append((study, db, build))
+            rounds.setdefault(build, []).append((study, db, build, fits[study].get("rerank", "")))
+            if rounds[build][-1][3]:
+                continue  # a calibration that ranks the last study's gaits: no gaits of its own
             sets[study], where[study], walls[study] = (gait_sets(db, True, args.gaits, study),
                                                        [(build, "nothing concealed")], wall)
             check(db, study)
