@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+
+#include <spdlog/spdlog.h>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -426,12 +429,25 @@ absl::StatusOr<std::string> Diagnose(const v1::DiagnosisSpec& d, const Inputs& i
   std::filesystem::create_directories(in.dir, ec);
   RunState s(d, in, studies, r);
   s.rule.SetUnitFor(d.error());
-  for (auto stage : {CountSamples, Weigh, Numerics, Resolution, Baseline, Structure, Screen, Refit})
+  using Stage = absl::Status (*)(RunState&);
+  const std::pair<const char*, Stage> stages[] = {
+      {"samples", CountSamples}, {"weights", Weigh},   {"numerics", Numerics},
+      {"resolution", Resolution}, {"baseline", Baseline}, {"structure", Structure},
+      {"screening", Screen},      {"refit", Refit}};
+  for (const auto& [name, stage] : stages) {
+    const auto t0 = std::chrono::steady_clock::now();
     if (auto st = stage(s); !st.ok()) return st;
+    // Wall time goes to the log, not the report: the report depends on the spec alone.
+    spdlog::info("diagnosis {}: {} took {:.1f} s", d.name(), name,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
   DecideStage(s);
   WriteCorrected(s);
   std::string report = WriteReport(s);
+  const auto t0 = std::chrono::steady_clock::now();
   PlanStage(s, report);
+  spdlog::info("diagnosis {}: plan took {:.1f} s", d.name(),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return report;
 }
 

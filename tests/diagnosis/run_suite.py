@@ -26,6 +26,7 @@ its last (a rerun replaces the earlier run).
 """
 import argparse
 import json
+import re
 import os
 import subprocess
 import sys
@@ -59,6 +60,17 @@ def spec_text(case_dir, c, screening, full, base="", weighting="", extra=""):
     return "\n".join(lines) + "\n"
 
 
+def stage_seconds(log):
+    """Each diagnosis stage's wall time, as the coordinator logged it ("diagnosis NAME:
+    STAGE took S s"; services/diagnosis/pipeline.cc); {} without the log."""
+    out = {}
+    if os.path.exists(log):
+        with open(log) as f:
+            for m in re.finditer(r"diagnosis \S+: (\w+) took ([0-9.]+) s", f.read()):
+                out[m.group(1)] = out.get(m.group(1), 0.0) + float(m.group(2))
+    return out
+
+
 def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting="", extra=""):
     """`gaitforge diagnose` on a case; `extra`: more spec lines (e.g. `candidates: [...]`)."""
     case_dir = os.path.join(suite, "cases", case)
@@ -77,6 +89,7 @@ def diagnose(bin_dir, suite, case, screening, full, workers, base="", weighting=
         out = json.loads(r.stdout)
         out["case"] = case
         out["wall_seconds"] = wall
+        out["stage_seconds"] = stage_seconds(os.path.join(d, "runs", "logs", "coordinator.log"))
         # The report's figures (located.svg, diagnosis.svg): listed, written, SVG.
         out["figures_missing"] = [name for name in ("located.svg", "diagnosis.svg")
                                   if not any(p.endswith("/" + name) and _is_svg(os.path.join(d, p))
