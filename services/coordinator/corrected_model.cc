@@ -10,10 +10,13 @@ void PrependSet(v1::ObjectiveSpec* objective, const std::string& corrected) {
   if (own.empty()) objective->mutable_options()->erase("set");
 }
 
+bool ListsRange(const v1::ObjectiveSpec& objective, const std::string& name) {
+  const auto& listed = objective.robust().parameters();
+  return std::any_of(listed.begin(), listed.end(), [&](const auto& p) { return p.name() == name; });
+}
+
 void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi) {
-  const auto& listed = objective->robust().parameters();
-  if (std::any_of(listed.begin(), listed.end(), [&](const auto& p) { return p.name() == name; }))
-    return;
+  if (ListsRange(*objective, name)) return;
   auto* p = objective->mutable_robust()->add_parameters();
   p->set_name(name);
   p->set_lo(lo);

@@ -11,6 +11,9 @@ namespace gaitforge::coordinator {
 // objective.options.set becomes `corrected` followed by the spec's own items (which win).
 void PrependSet(v1::ObjectiveSpec* objective, const std::string& corrected);
 
+// Whether objective.robust.parameters lists `name`.
+bool ListsRange(const v1::ObjectiveSpec& objective, const std::string& name);
+
 // Adds {name, lo, hi} to objective.robust.parameters unless the spec already lists name.
 void AddEnsembleRange(v1::ObjectiveSpec* objective, const std::string& name, double lo, double hi);
 

@@ -1,6 +1,5 @@
 #include "services/coordinator/validation_model.h"
 
-#include <algorithm>
 #include <set>
 #include <vector>
 
@@ -9,6 +8,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
+#include "services/coordinator/corrected_model.h"
 
 namespace gaitforge::coordinator {
 namespace {
@@ -17,11 +17,6 @@ constexpr char kField[] = "validate.from_calibration";
 
 std::string Name(absl::string_view item) {
   return std::string(absl::StripAsciiWhitespace(item.substr(0, item.find('='))));
-}
-
-bool Lists(const v1::Robustness& robust, const std::string& name) {
-  return std::any_of(robust.parameters().begin(), robust.parameters().end(),
-                     [&](const auto& p) { return p.name() == name; });
 }
 
 }  // namespace
@@ -61,7 +56,7 @@ absl::Status RebaseOnCalibration(storage::StudyStore& store, const SpreadFn& spr
   if (!set.empty()) (*o->mutable_options())["set"] = set;
   if (own.robust().sampling() != "fits")
     for (const auto& p : own.robust().parameters())
-      if (!Lists(o->robust(), p.name())) *o->mutable_robust()->add_parameters() = p;
+      if (!ListsRange(*o, p.name())) *o->mutable_robust()->add_parameters() = p;  // log too
   *study->mutable_objective() = std::move(*o);
   return absl::OkStatus();
 }
