@@ -151,8 +151,17 @@ class Nemesis:
         self.restart_seconds.append(time.monotonic() - t_kill)
         self.log("coordinator restarted on %s after %.3f s" % (self.c.coord.target, self.restart_seconds[-1]))
 
-    def tick(self, _st=None):
+    def hurry(self, st, now):
+        """Acts now, not at next_at, while the coverage's actions outnumber the generations
+        left: a quick run must not end before the plan has made its coverage."""
+        if st and self.step < self.first_steps:
+            left = self.c.spec["generations"] - st["generations_done"]
+            if left <= self.first_steps - self.step + 1:
+                self.next_at = min(self.next_at, now)
+
+    def tick(self, st=None):
         now = time.monotonic()
+        self.hurry(st, now)
         for item in [x for x in self.pending if x[0] <= now]:
             self.pending.remove(item)
             self.heal(item[1])

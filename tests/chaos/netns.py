@@ -292,8 +292,12 @@ class NetCluster(chaos.LocalCluster):
 
 
 class NetNemesis(chaos.Nemesis):
-    PLAN = ["isolate_worker", "partition_restart", "kill_coordinator", "kill_worker", "partition_restart",
-            "kill_coordinator"]
+    """The plan reaches COVERAGE in its six actions, the plain partition last: while it lasts
+    (2.5 leases) no coordinator is killed, and with it first a 21.8 s CI run ended two
+    actions short. Its actions are paced to the fault-free run, as chaos.py's are."""
+
+    PLAN = ["partition_restart", "kill_coordinator", "kill_worker", "partition_restart", "kill_coordinator",
+            "isolate_worker"]
     WEIGHTS = {"kill_worker": 2, "kill_coordinator": 1, "isolate_worker": 2, "partition_restart": 1}
     ISOLATE = "worker_partitions_past_lease"
     ISOLATE_VERB = ("partition", "heal")
@@ -359,7 +363,8 @@ def main(argv=None):
             cl.coord.start()
             for _ in range(args.workers):
                 cl.add_worker()
-            nem = NetNemesis(cl, random.Random(res["nemesis_seed"]), args.lease_ms, interval=(1.5, 2.5))
+            nem = NetNemesis(cl, random.Random(res["nemesis_seed"]), args.lease_ms, interval=(1.5, 2.5),
+                             first_interval=chaos.paced_interval(res["reference_seconds"]))
             chaos.chaos_phase(cl, nem, spec_path, args, res, ref_db, ref_id, COVERAGE, prefix=nsx(COORD_NS))
             drops = net.drop_counts()
             if drops is not None:
