@@ -131,8 +131,20 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
     c.mean0.push_back(0.0);
     c.gene_effect.emplace_back();
   }
+  c.nominal = c.mean0;  // a warm start (pipeline.cc StartFrom) moves mean0, not this
   c.k = static_cast<int>(c.genes.size());
   return c;
+}
+
+bool StartAtBetter(const Candidate& a, const Candidate& b, Candidate* pair) {
+  const Candidate& better = !b.ok || (a.ok && a.train <= b.train) ? a : b;
+  if (!better.ok) return false;
+  for (size_t i = 0; i < pair->genes.size() && i < pair->mean0.size(); ++i)
+    for (size_t j = 0; j < better.genes.size() && j < better.values.size(); ++j)
+      if (better.genes[j].name() == pair->genes[i].name())
+        pair->mean0[i] = std::clamp(better.values[j], pair->genes[i].lo(), pair->genes[i].hi());
+  pair->sigma0 = 0.1;
+  return true;
 }
 
 v1::DiagnosisSpec WithStructure(const v1::DiagnosisSpec& d, const Candidate& c) {

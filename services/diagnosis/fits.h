@@ -21,7 +21,8 @@ namespace gaitforge::diagnosis {
 struct Candidate : FitScore {
   std::string label;                  // effect id(s), "baseline" for none
   std::vector<v1::GeneBound> genes;   // what the study fits
-  std::vector<double> mean0;          // where the fit starts: an effect's nominal value
+  std::vector<double> mean0;          // where the fit starts (Make: as `nominal`)
+  std::vector<double> nominal;        // per gene, its value with its effect absent (Make)
   double sigma0 = 0.25;               // its first step, a share of each gene's range
   std::vector<std::string> gene_effect;  // per gene, the effect id it belongs to ("": none)
   std::string study_id;
@@ -51,6 +52,13 @@ std::string RobotArg(const v1::DiagnosisSpec& d);
 // The candidate with these effects: its genes (base parameters, effect parameters, time
 // offset), start point and parameter count.
 Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids);
+
+// Starts `pair` (a candidate with the effects of single fits a and b) where the better of
+// the two (the lower training error among those ok) ended: its base parameters and its
+// effect's, the other effect at its nominal value (absent), with a first step of 0.1 of
+// each range; so the pair begins at least as good as its better member and its budget
+// goes to what the second effect adds. False (pair unchanged) when neither fit is ok.
+bool StartAtBetter(const Candidate& a, const Candidate& b, Candidate* pair);
 
 // d with c's effects moved into the base model: their parameters become base
 // parameters over their ranges (fitted in every later study), and they leave the candidates.

@@ -285,28 +285,53 @@ absl::Status Screen(RunState& s) {
   return absl::OkStatus();
 }
 
-// 4. Full fits of the leaders (with screening_tie > 0, near ties with the last leader
-// too), then pairs of them; each scored held out and checked for parameters at a bound.
-absl::Status Refit(RunState& s) {
+// Where a pair starts: StartAtBetter (fits.h); with both singles failed, from the baseline
+// as a single starts.
+void StartPair(const RunState& s, const Candidate& a, const Candidate& b, Candidate& pair) {
+  if (!StartAtBetter(a, b, &pair)) StartFrom(s, s.base, pair, false);
+}
+
+// 4a. Full fits of the leaders (with screening_tie > 0, near ties with the last leader
+// too), all at once.
+absl::Status RefitSingles(RunState& s) {
   std::vector<double> screened_train;
   for (const auto& c : s.screened)
     if (c.ok) screened_train.push_back(c.train);
   const int leaders = LeadersToRefit(screened_train, s.d.top(), s.d.screening_tie());
   for (int i = 0; i < leaders; ++i) s.full.push_back(Make(s.d, s.screened[i].effects));
   s.singles = s.full.size();
-  if (s.d.try_pairs())
-    for (size_t i = 0; i < s.singles && i < 2; ++i)
-      for (size_t j = i + 1; j < s.singles && j < 3; ++j)
-        s.full.push_back(Make(s.d, {s.full[i].effects[0], s.full[j].effects[0]}));
   std::vector<Candidate*> ptrs;
-  for (size_t i = 0; i < s.full.size(); ++i) {
-    StartFrom(s, i < s.singles ? s.screened[i] : s.base, s.full[i], false);
+  for (size_t i = 0; i < s.singles; ++i) {
+    StartFrom(s, s.screened[i], s.full[i], false);
     ptrs.push_back(&s.full[i]);
   }
-  if (auto st = RunFits(s.studies, s.d, ptrs, s.d.full_evaluations(), s.fit_inputs, s.r,
-                        "refitting", &s.reused);
-      !st.ok())
-    return st;
+  return RunFits(s.studies, s.d, ptrs, s.d.full_evaluations(), s.fit_inputs, s.r, "refitting",
+                 &s.reused);
+}
+
+// 4b. Pairs of the first three leaders, once their single fits are done (StartPair).
+absl::Status RefitPairs(RunState& s) {
+  if (!s.d.try_pairs()) return absl::OkStatus();
+  std::vector<std::pair<size_t, size_t>> of;
+  for (size_t i = 0; i < s.singles && i < 2; ++i)
+    for (size_t j = i + 1; j < s.singles && j < 3; ++j) of.emplace_back(i, j);
+  if (of.empty()) return absl::OkStatus();
+  s.full.reserve(s.singles + of.size());  // the pointers below stay valid
+  std::vector<Candidate*> ptrs;
+  for (const auto& [i, j] : of) {
+    s.full.push_back(Make(s.d, {s.full[i].effects[0], s.full[j].effects[0]}));
+    StartPair(s, s.full[i], s.full[j], s.full.back());
+  }
+  for (size_t k = s.singles; k < s.full.size(); ++k) ptrs.push_back(&s.full[k]);
+  return RunFits(s.studies, s.d, ptrs, s.d.pair_evaluations(), s.fit_inputs, s.r,
+                 "refitting pairs", &s.reused);
+}
+
+// 4. The leaders' full fits, then their pairs; each scored held out and checked for
+// parameters at a bound.
+absl::Status Refit(RunState& s) {
+  if (auto st = RefitSingles(s); !st.ok()) return st;
+  if (auto st = RefitPairs(s); !st.ok()) return st;
   const size_t base_genes = s.d.base_parameters_size();
   for (auto& c : s.full) {
     if (!c.ok) continue;

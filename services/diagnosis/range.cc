@@ -246,12 +246,13 @@ RangeVerdict JudgeRange(const Candidate& c, const FitRange& r, size_t first_effe
     const double share = RangeShare(p, g.lo(), g.hi());
     if (share >= kUndeterminedShare)
       loose.push_back(absl::StrFormat("%s (%.0f%%)", g.name(), 100 * share));
-    // An effect's gene starts at its nominal value (the effect absent: Make).
-    if (i >= c.gene_effect.size() || c.gene_effect[i].empty() || i >= c.mean0.size()) continue;
+    // The effect's gene at its nominal value: the effect absent (Make), wherever the fit
+    // started.
+    if (i >= c.gene_effect.size() || c.gene_effect[i].empty() || i >= c.nominal.size()) continue;
     const std::string& id = c.gene_effect[i];
     if (!held.count(id)) order.push_back(id);
     auto& [words, refused] = held[id];
-    const double nominal = c.mean0[i];
+    const double nominal = c.nominal[i];
     if (!RangeHolds(p, nominal, g.lo(), g.hi())) {
       refused = true;
       continue;

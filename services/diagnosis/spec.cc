@@ -148,6 +148,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
   if (d.screening_evaluations() < 8 || d.full_evaluations() < 8)
     return absl::InvalidArgumentError(
         "fields 'screening_evaluations' and 'full_evaluations': at least 8");
+  if (d.pair_evaluations() < 8)
+    return absl::InvalidArgumentError(absl::StrCat("field 'pair_evaluations': ",
+                                                   d.pair_evaluations(), " is below 8"));
   if (d.top() < 1 || d.top() > 20) return absl::InvalidArgumentError("field 'top': out of range [1, 20]");
   if (!(d.screening_tie() >= 0 && d.screening_tie() <= 0.2))
     return absl::InvalidArgumentError("field 'screening_tie': out of range [0, 0.2]");
@@ -176,6 +179,7 @@ void Defaults(v1::DiagnosisSpec* d) {
   if (!d->has_time_offset_range_s()) d->set_time_offset_range_s(0.05);
   if (!d->has_screening_evaluations()) d->set_screening_evaluations(120);
   if (!d->has_full_evaluations()) d->set_full_evaluations(480);
+  if (!d->has_pair_evaluations()) d->set_pair_evaluations(std::max(8, d->full_evaluations() / 2));
   if (!d->has_top()) d->set_top(3);
   if (!d->has_screening_tie()) d->set_screening_tie(0);
   if (!d->has_try_pairs()) d->set_try_pairs(true);

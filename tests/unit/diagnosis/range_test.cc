@@ -208,6 +208,7 @@ Candidate PairWithForce() {
     g.set_hi(hi);
     c.genes.push_back(g);
     c.mean0.push_back(nominal);
+    c.nominal.push_back(nominal);
     c.gene_effect.push_back(id);
   }
   return c;
@@ -242,7 +243,8 @@ Candidate AnisotropicFriction() {
     g.set_lo(0);
     g.set_hi(3);
     c.genes.push_back(g);
-    c.mean0.push_back(0.6);  // the walker's own coefficient: the effect absent
+    c.nominal.push_back(0.6);  // the walker's own coefficient: the effect absent
+    c.mean0.push_back(0.6);
     c.gene_effect.push_back("friction.anisotropic");
   }
   return c;
@@ -264,6 +266,24 @@ TEST(JudgeRange, AnEffectIsUnneededOnlyWhenAllItsParametersHoldTheirNominal) {
   EXPECT_EQ(v.unneeded,
             "effect.friction_forward's range 0.55 .. 0.7 holds 0.6; "
             "effect.friction_backward's range 0.446 .. 1.04 holds 0.6");
+}
+
+TEST(JudgeRange, JudgesTheNominalNotWhereAWarmStartedFitBegan) {
+  // A full fit warm-started from its screening fit (structure first) begins at the
+  // screened values; whether the data require the effect is still judged at 0.6, the
+  // effect absent: a range around where the fit began says nothing about that.
+  Candidate c = AnisotropicFriction();
+  c.mean0 = {0.37, 0.8};
+  FitRange r;
+  r.params = {{0.323, 0.423, false, false}, {0.446, 1.04, false, false}};
+  RangeVerdict v = JudgeRange(c, r, 0);
+  EXPECT_TRUE(v.unneeded_effects.empty());
+  // Make keeps the nominal apart from the start.
+  v1::DiagnosisSpec d;
+  d.set_robot("caterpillar");
+  Candidate made = Make(d, {"tether.constant"});
+  ASSERT_EQ(made.nominal.size(), made.genes.size());
+  EXPECT_EQ(made.nominal, made.mean0);
 }
 
 }  // namespace

@@ -344,6 +344,15 @@ TEST(DiagnosisSpec, StructureIsOffByDefaultAndOneOfOffFirstOrJoint) {
       << Validate(d);
 }
 
+TEST(DiagnosisSpec, APairsBudgetIsHalfTheFullOneByDefaultAndAtLeastEight) {
+  v1::DiagnosisSpec d = Spec();
+  EXPECT_EQ(d.pair_evaluations(), d.full_evaluations() / 2);
+  d.set_pair_evaluations(4);
+  EXPECT_NE(Validate(d).message().find("field 'pair_evaluations': 4 is below 8"),
+            std::string::npos)
+      << Validate(d);
+}
+
 // A robot's own suspects (its descriptor's `suspects:`) are candidates beside the catalog's
 // effects, fitted from the nominal value over the range the descriptor gives.
 TEST(DiagnosisSpec, ARobotsSuspectsAreCandidatesStartingAtTheModel) {
@@ -400,6 +409,46 @@ TEST(Resolution, AFitStudyCarriesTheFinerDescriptorAndTheCandidatesStart) {
   EXPECT_DOUBLE_EQ(spec.cmaes().sigma0(), 0.1);
   ASSERT_GE(spec.cmaes().mean0_size(), 1);
   EXPECT_DOUBLE_EQ(spec.cmaes().mean0(0), 0.5);
+}
+
+}  // namespace
+}  // namespace gaitforge::diagnosis
+
+namespace gaitforge::diagnosis {
+namespace {
+
+// A pair starts where the better of its singles' full fits ended, the other effect absent;
+// the pair's own defaults (nominal values, base ranges) are kept when neither fit is ok.
+TEST(StartAtBetter, APairStartsAtItsBetterSingleWithTheOtherEffectAbsent) {
+  v1::DiagnosisSpec d;
+  d.set_robot("caterpillar");
+  d.add_training("a");
+  d.add_held_out("c");
+  Defaults(&d);
+  Candidate tether = Make(d, {"tether.constant"}), slope = Make(d, {"ground.slope"});
+  Candidate pair = Make(d, {"tether.constant", "ground.slope"});
+  const Candidate fresh = pair;
+  EXPECT_FALSE(StartAtBetter(tether, slope, &pair));  // neither fitted
+  EXPECT_EQ(pair.mean0, fresh.mean0);
+  tether.ok = slope.ok = true;
+  tether.train = 2e-3;
+  slope.train = 1e-3;  // the better one
+  tether.values.assign(tether.genes.size(), 0.3);
+  slope.values.assign(slope.genes.size(), 0.05);
+  slope.values.back() = 99;  // the time offset far outside its range: clamped
+  ASSERT_TRUE(StartAtBetter(tether, slope, &pair));
+  EXPECT_DOUBLE_EQ(pair.sigma0, 0.1);
+  for (size_t i = 0; i < pair.genes.size(); ++i) {
+    const auto& g = pair.genes[i];
+    if (pair.gene_effect[i] == "tether.constant") {
+      EXPECT_EQ(pair.mean0[i], pair.nominal[i]) << g.name();  // absent, not the worse fit's
+    } else if (pair.gene_effect[i] == "ground.slope") {
+      EXPECT_EQ(pair.mean0[i], 0.05) << g.name();
+    } else if (g.name() == "nuisance.time_offset_s") {
+      EXPECT_EQ(pair.mean0[i], g.hi());
+    }
+  }
+  EXPECT_EQ(pair.nominal, fresh.nominal);  // the range rule still judges the effect absent
 }
 
 }  // namespace
