@@ -73,7 +73,29 @@ ROBUST = {"name": "py-robust", "seed": 7, "population": 4, "generations": 1,
           "ga": {"elite": 2}}
 
 
-def check_validation(gf, errors):
+def check_validation_from_calibration(gf, tmp, sid):
+    """Robust study `sid`'s best gait on the model a (short, completed) calibration fitted:
+    the validation carries the calibration's value; walk.csv is in tmp
+    (check_recording_and_control)."""
+    spec_path = os.path.join(tmp, "calib-short.yaml")
+    with open(spec_path, "w") as f:
+        f.write(CALIBRATION_YAML.replace("generations: 50", "generations: 2"))
+    cid = gf.submit(spec_path)
+    check(gf.watch(cid)["state"] == "completed", "a short calibration completed")
+    force = gf.hall_of_fame(cid)[0]["genes"][0]
+    vid = gf.validate(sid, members=2, top=1, from_calibration=cid)
+    check(gf.watch(vid)["state"] == "completed", "validate from_calibration: completed")
+    spec = gf.study(vid)["spec"]
+    check(cid in (spec.validate.from_calibration, spec.objective.from_calibration),
+          "validate from_calibration: names the calibration")
+    fitted = dict(kv.split("=") for kv in spec.objective.options["set"].split(","))
+    check(abs(float(fitted["actuators.force_n"]) - force) <= 1e-4 * force,
+          f"validate from_calibration: the model carries the fitted force {force:.4g} N")
+    rows = gf.individuals(vid, 0)
+    check(len(rows) == 1 and rows[0]["valid"], "validate from_calibration: the gait evaluated")
+
+
+def check_validation(gf, errors, tmp):
     """A robust study's hall of fame over a fresh ensemble, and the refusals."""
     sid = gf.submit(ROBUST)
     gf.watch(sid)
@@ -95,6 +117,7 @@ def check_validation(gf, errors):
             check(False, f"validate refused with {what.__name__}")
         except what as e:
             check(True, f"validate refused with {what.__name__}: {e}")
+    check_validation_from_calibration(gf, tmp, sid)
 
 
 def check_reads(gf, sid):
@@ -312,7 +335,7 @@ def main():
             check_recording_and_control(gf, tmp, errors)
             check_robot_folder(gf, REPO, errors)
             check_diagnosis(gf, tmp, errors)
-            check_validation(gf, errors)
+            check_validation(gf, errors, tmp)
         compare_with_cli(a.bin_dir, db, sid, history, hof, members)
         check_tokens(a.bin_dir, tmp, Client, errors)
     finally:
