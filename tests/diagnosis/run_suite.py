@@ -124,22 +124,25 @@ def _is_svg(path):
 
 
 def structure_only(result, accept, truth):
-    """Whether a found verdict names, beside what the case accepts, only the model's own
-    structure (the report's `structural` parts: friction, contact softness and creep,
-    resolution, damping, stiffness, mass; effects::IsStructural). Issue 25 counts that as
+    """Whether a found or ambiguous verdict names, beside what the case accepts, only the
+    model's own structure (the report's `structural` parts: friction, contact softness and
+    creep, resolution, damping, stiffness, mass; effects::IsStructural); for an ambiguous
+    verdict every explanation it leaves open must be structure only. Issue 25 counts that as
     no physics beyond the structural set: not a wrong name on a null, a miss on an effect
     case, unless the case's truth is itself structural (then another structure is a wrong
     name). Reports from before session 40 carry no `structural`: False."""
-    if result.get("verdict") != "found" or not result.get("effects"):
+    verdict = result.get("verdict")
+    if verdict not in ("found", "ambiguous") or not result.get("effects"):
         return False
-    first = result["effects"][0]
-    if "structural" not in first:
+    named = result["effects"] if verdict == "ambiguous" else result["effects"][:1]
+    if any("structural" not in e for e in named):
         return False
     seen = {i for e in result.get("effects", []) + result.get("runners_up", [])
             for i in e.get("structural", [])}
     if truth != "none" and any(a in seen for a in accept):
         return False
-    return all(p in first["structural"] for p in first["id"].split("+") if p not in accept)
+    return all(p in e["structural"] for e in named for p in e["id"].split("+")
+               if p not in accept)
 
 
 def score(result, answer):
@@ -204,7 +207,9 @@ def outcome(s, answer):
         return "none"
     if p.startswith("ambiguous:"):
         named = [i for n in p[len("ambiguous:"):].split("|") for i in n.split("+")]
-        return "ambiguous, truth named" if any(a in named for a in accept) else "ambiguous, not"
+        if any(a in named for a in accept):
+            return "ambiguous, truth named"
+        return "structure only" if s.get("structure_only") else "ambiguous, not"
     if s["exact"]:
         return "alone"
     if s["correct"]:
