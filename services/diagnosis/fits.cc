@@ -136,13 +136,24 @@ Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effec
   return c;
 }
 
+void StartAt(const Candidate& from, Candidate* c, bool hold) {
+  for (size_t i = 0; i < c->genes.size() && i < c->mean0.size(); ++i)
+    for (size_t j = 0; j < from.genes.size() && j < from.values.size(); ++j) {
+      if (from.genes[j].name() != c->genes[i].name()) continue;
+      v1::GeneBound& g = c->genes[i];
+      const double v = from.values[j], half = 0.02 * std::max(std::abs(v), 1e-9);
+      c->mean0[i] = std::clamp(v, g.lo(), g.hi());
+      if (!hold) continue;
+      g.set_lo(std::max(g.lo(), v - half));
+      g.set_hi(std::min(g.hi(), v + half));
+    }
+  c->sigma0 = hold ? 0.1 : 0.05;
+}
+
 bool StartAtBetter(const Candidate& a, const Candidate& b, Candidate* pair) {
   const Candidate& better = !b.ok || (a.ok && a.train <= b.train) ? a : b;
   if (!better.ok) return false;
-  for (size_t i = 0; i < pair->genes.size() && i < pair->mean0.size(); ++i)
-    for (size_t j = 0; j < better.genes.size() && j < better.values.size(); ++j)
-      if (better.genes[j].name() == pair->genes[i].name())
-        pair->mean0[i] = std::clamp(better.values[j], pair->genes[i].lo(), pair->genes[i].hi());
+  StartAt(better, pair, false);
   pair->sigma0 = 0.1;
   return true;
 }

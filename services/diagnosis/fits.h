@@ -53,6 +53,11 @@ std::string RobotArg(const v1::DiagnosisSpec& d);
 // offset), start point and parameter count.
 Candidate Make(const v1::DiagnosisSpec& d, const std::vector<std::string>& effect_ids);
 
+// Starts c where fit `from` ended: each gene `from` also fits at its fitted value (clamped
+// to c's range), with a first step of 0.05 of each range; with `hold`, c's ranges shrink to
+// within 2% of those values and the first step is 0.1 (a screening fit on a fitted model).
+void StartAt(const Candidate& from, Candidate* c, bool hold);
+
 // Starts `pair` (a candidate with the effects of single fits a and b) where the better of
 // the two (the lower training error among those ok) ended: its base parameters and its
 // effect's, the other effect at its nominal value (absent), with a first step of 0.1 of

@@ -184,17 +184,7 @@ absl::Status Baseline(RunState& s) {
 // parameters, so that screening ranks what each effect adds to the fitted model rather
 // than how far a short fit gets from the centre of every range.
 void StartFrom(const RunState& s, const Candidate& from, Candidate& c, bool hold) {
-  if (!StructureOn(s.d) || !from.ok) return;
-  for (size_t i = 0; i < c.genes.size() && i < c.mean0.size(); ++i)
-    for (size_t j = 0; j < from.genes.size() && j < from.values.size(); ++j) {
-      if (from.genes[j].name() != c.genes[i].name()) continue;
-      const double v = from.values[j], half = 0.02 * std::max(std::abs(v), 1e-9);
-      c.mean0[i] = std::clamp(v, c.genes[i].lo(), c.genes[i].hi());
-      if (!hold) continue;
-      c.genes[i].set_lo(std::max(c.genes[i].lo(), v - half));
-      c.genes[i].set_hi(std::min(c.genes[i].hi(), v + half));
-    }
-  c.sigma0 = hold ? 0.1 : 0.05;
+  if (StructureOn(s.d) && from.ok) StartAt(from, &c, hold);
 }
 
 // A short fit of each effect in `ids` alone on the base model (screening_evaluations, from

@@ -451,5 +451,24 @@ TEST(StartAtBetter, APairStartsAtItsBetterSingleWithTheOtherEffectAbsent) {
   EXPECT_EQ(pair.nominal, fresh.nominal);  // the range rule still judges the effect absent
 }
 
+// A screening fit on a fitted model (hold) keeps each shared gene within 2% of its value.
+TEST(StartAt, AHeldStartShrinksTheSharedRangesToTwoPercent) {
+  v1::DiagnosisSpec d;
+  d.set_robot("caterpillar");
+  d.add_training("a");
+  d.add_held_out("c");
+  Defaults(&d);
+  Candidate base = Make(d, {}), tether = Make(d, {"tether.constant"});
+  base.ok = true;
+  base.values = {0.01};  // the time offset
+  StartAt(base, &tether, true);
+  const auto& g = tether.genes.back();
+  EXPECT_NEAR(g.lo(), 0.0098, 1e-12);
+  EXPECT_NEAR(g.hi(), 0.0102, 1e-12);
+  EXPECT_EQ(tether.mean0.back(), 0.01);
+  EXPECT_DOUBLE_EQ(tether.sigma0, 0.1);
+  EXPECT_EQ(tether.genes[0].lo(), Make(d, {"tether.constant"}).genes[0].lo());  // not shared
+}
+
 }  // namespace
 }  // namespace gaitforge::diagnosis
