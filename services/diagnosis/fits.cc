@@ -306,13 +306,25 @@ std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<s
     for (const auto& ev : e) sq += (ev[f] - mean) * (ev[f] - mean);
     (*floors)[f] = std::sqrt(sq / (e.size() - 1));
   }
-  std::vector<double> sorted = *floors;
+  return WeightsFromFloors(*floors, d.weighting() == "pooled");
+}
+
+bool FloorsMeasured(const v1::DiagnosisSpec& d) {
+  return d.weighting() == "floor" || d.weighting() == "pooled";
+}
+
+std::vector<double> WeightsFromFloors(const std::vector<double>& floors, bool pooled) {
+  if (floors.empty()) return {};
+  std::vector<double> sorted = floors;
   std::sort(sorted.begin(), sorted.end());
-  const double least = 0.1 * sorted[sorted.size() / 2];
+  const size_t n = sorted.size();
+  const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  const double least = 0.1 * sorted[n / 2];
   std::vector<double> w;
   double sum = 0;
-  for (double sd : *floors) {
-    w.push_back(1 / std::max(sd * sd, least * least + 1e-30));
+  for (double sd : floors) {
+    w.push_back(pooled ? 1 / (sd * sd + median * median + 1e-30)
+                       : 1 / std::max(sd * sd, least * least + 1e-30));
     sum += w.back();
   }
   for (double& x : w) x *= w.size() / sum;

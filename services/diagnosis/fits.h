@@ -102,10 +102,22 @@ std::string VariantDir(const std::string& prefix, size_t i);
 std::vector<double> VariantErrors(const Candidate& c, const std::vector<std::string>& files,
                                   const v1::DiagnosisSpec& d, const std::string& prefix = "");
 
-// weighting: floor: each training file's weight 1 / sd^2 of the uncalibrated model's error
-// over the variants (floors: the sds). Empty when an evaluation fails.
-// variant_means (optional): per numeric variant, the uncalibrated model's mean error over
-// the files.
+// Whether d's weighting measures each training file's floor over the numeric variants
+// (floor, pooled): the later stages that read the variants' errors need it.
+bool FloorsMeasured(const v1::DiagnosisSpec& d);
+
+// Training weights from the files' floors (sds), summing to the file count.
+// pooled false (weighting: floor): 1 / sd^2, with sd at least a tenth of the median.
+// pooled true (weighting: pooled): 1 / (sd^2 + m^2), m the median sd: a file's own numeric
+// spread plus the typical one (before normalising no weight exceeds 1 / m^2), so that a file
+// the model's numerics barely move cannot carry the fit alone, while a chaotic one still
+// counts less.
+std::vector<double> WeightsFromFloors(const std::vector<double>& floors, bool pooled);
+
+// weighting: floor or pooled: the training files' weights (WeightsFromFloors) from the sd of
+// the uncalibrated model's error over the variants (floors: the sds). Empty when an
+// evaluation fails. variant_means (optional): per numeric variant, the uncalibrated model's
+// mean error over the files.
 std::vector<double> FloorWeights(const v1::DiagnosisSpec& d, const std::vector<std::string>& files,
                                  std::vector<double>* floors,
                                  std::vector<double>* variant_means = nullptr);

@@ -64,14 +64,15 @@ absl::Status CountSamples(RunState& s) {
   return absl::OkStatus();
 }
 
-// Recording weights (weighting: floor), the same in every fit.
+// Recording weights (weighting: floor or pooled), the same in every fit.
 absl::Status Weigh(RunState& s) {
   s.fit_inputs = StudyInputs{s.in.train, s.in.held, ""};
-  if (s.d.weighting() != "floor") return absl::OkStatus();
+  if (!FloorsMeasured(s.d)) return absl::OkStatus();
   s.weights = FloorWeights(s.d, s.in.train_files, &s.train_floors, &s.variant_train);
   if (s.weights.empty())
     return absl::FailedPreconditionError(
-        "weighting: floor: the model failed on a training recording under a numeric variant "
+        "weighting: " + s.d.weighting() +
+        ": the model failed on a training recording under a numeric variant "
         "(gaitforge-sim calibration-eval)");
   std::vector<std::string> parts;
   for (double w : s.weights) parts.push_back(absl::StrFormat("%.6g", w));
@@ -84,7 +85,7 @@ absl::Status Weigh(RunState& s) {
 // the diagnosis moves to that step (its variants with it), so that the model's own step
 // error cannot pass for an effect (docs/diagnosis.md, "Numerics first").
 absl::Status Numerics(RunState& s) {
-  if (s.d.numerics() != "first" || s.d.weighting() != "floor") return absl::OkStatus();
+  if (s.d.numerics() != "first" || !FloorsMeasured(s.d)) return absl::OkStatus();
   auto robot = RobotOf(s.d);
   const robots::Parameter* h = robot.ok() ? (*robot)->FindParameter(kTimestepParam) : nullptr;
   if (h == nullptr) return absl::OkStatus();
@@ -115,7 +116,7 @@ bool StructureOn(const v1::DiagnosisSpec& d) {
 // model: a lumped model coarser than the robot must not pass its own discretisation error
 // off as an effect (docs/diagnosis.md, "Structure first").
 absl::Status Resolution(RunState& s) {
-  if (!StructureOn(s.d) || s.d.weighting() != "floor" || s.variant_train.empty())
+  if (!StructureOn(s.d) || !FloorsMeasured(s.d) || s.variant_train.empty())
     return absl::OkStatus();
   auto robot = RobotOf(s.d);
   if (!robot.ok()) return absl::OkStatus();

@@ -168,9 +168,9 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
     return absl::InvalidArgumentError(absl::StrCat("field 'timestep_ms': ", d.timestep_ms(),
                                                    " is out of range [0.05, 2] ms"));
   if (absl::Status s = CheckTimestep(d); !s.ok()) return s;
-  if (d.weighting() != "equal" && d.weighting() != "floor")
+  if (d.weighting() != "equal" && d.weighting() != "floor" && d.weighting() != "pooled")
     return absl::InvalidArgumentError(absl::StrCat("field 'weighting': '", d.weighting(),
-                                                   "' is not one of equal, floor"));
+                                                   "' is not one of equal, floor, pooled"));
   return absl::OkStatus();
 }
 

@@ -6,7 +6,7 @@ Runs `gaitforge diagnose` on each case, and only afterwards opens the sealed ans
 the concealed one, and the held-out error before and after.
 
   /usr/bin/python3 tests/diagnosis/run_suite.py [--bin-dir build/bin] [--cases a,b] [--check]
-      [--json-out FILE] [--screening N] [--full N] [--suite DIR] [--weighting equal|floor]
+      [--json-out FILE] [--screening N] [--full N] [--suite DIR] [--weighting equal|floor|pooled]
 
 --suite tests/diagnosis/foreign: the cases of an independent simulator
 (bench/diagnosis/rig2d.py) with effects in forms of their own; their answers list every
@@ -251,7 +251,7 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--base", default="",
                     help="base parameters fitted in every study, NAME:LO:HI,... (default: none)")
-    ap.add_argument("--weighting", default="", choices=["", "equal", "floor"],
+    ap.add_argument("--weighting", default="", choices=["", "equal", "floor", "pooled"],
                     help="the spec's weighting of the training recordings (default: the "
                          "diagnosis's own default)")
     ap.add_argument("--structure", default="", choices=["", "off", "first", "joint"],

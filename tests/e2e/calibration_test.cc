@@ -260,7 +260,7 @@ TEST(Diagnose, RefusesBadSpecsNamingTheField) {
   TempDir dir;
   const std::string head = "name: d\nrobot: caterpillar\ntraining: [a.csv]\nheld_out: [c.csv]\n";
   for (const auto& [extra, expected] : std::vector<std::pair<std::string, std::string>>{
-           {"weighting: both\n", "field 'weighting': 'both' is not one of equal, floor"},
+           {"weighting: both\n", "field 'weighting': 'both' is not one of equal, floor, pooled"},
            {"error: wiggle\n", "field 'error': one of shape, pointwise, stats, acceleration"},
            {"params: {window: 1}\n", "field 'params.window': not a param of the comparison"},
            {"params: {max_shift_samples: 2.5}\n",
