@@ -116,6 +116,11 @@ absl::Status Validate(const v1::DiagnosisSpec& d) {
       return absl::InvalidArgumentError(absl::StrCat(
           r.mark.ToString(), ": ruled_out.", r.id, ": '", r.id,
           "' is not an effect of the catalog (docs/effects.md lists them)"));
+  if (d.candidates_size() == 0)  // Defaults fills in every effect that applies
+    return absl::InvalidArgumentError(absl::StrCat(
+        "field 'candidates': none to fit: no effect of the catalog applies to ", (*robot)->name,
+        " beside what base_parameters fits already; a diagnosis needs at least one candidate "
+        "(fit fewer base parameters, or give the robot suspects: docs/robots.md)"));
   for (int i = 0; i < d.candidates_size(); ++i) {
     const auto e = effects::FindEffect(d.candidates(i), **robot);
     if (!e || e->params.empty())

@@ -131,5 +131,32 @@ TEST(DiagnosePlan, RefusesAReportWithNothingToSeparateAndARequestWithoutAReport)
   EXPECT_NE(r.err.find("--report"), std::string::npos) << r.err;
 }
 
+// A plan simulates every recording on one model at one rate: a recording of another robot,
+// or sampled at another rate, is refused naming the file, not simulated at the wrong rate.
+TEST(DiagnosePlan, RefusesRecordingsOfAnotherRobotOrRate) {
+  TempDir dir;
+  MakeCase(dir);
+  WriteFile(dir.File("report.json"), kReport);
+  for (const auto& [name, robot, genes, rate] :
+       {std::make_tuple("c.csv", "walker", "1.5,0.3,0.1,0.05", "100"),
+        std::make_tuple("t.csv", "tigrillo", "1,0.35,0.35,0.1,0.1,0.5,0.25,5", "50")}) {
+    auto r = RunCommand(Bin("gaitforge-sim") + " trajectory --robot " + robot + " --genes " +
+                        genes + " --cycles 1 --settle 0 --rate " + rate + " --out " +
+                        dir.File(name));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const std::string plan = Bin("gaitforge") + " diagnose plan ";
+  const std::string report = " --report " + dir.File("report.json") + " --random 0";
+  WriteFile(dir.File("rate.yaml"), "name: p\ntraining: [a.csv]\nheld_out: [c.csv]\n");
+  auto r = RunCommand(plan + dir.File("rate.yaml") + report);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("c.csv: sampled every 0.01 s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("share a rate"), std::string::npos) << r.err;
+  WriteFile(dir.File("robot.yaml"), "name: p\ntraining: [a.csv, t.csv]\nheld_out: [b.csv]\n");
+  r = RunCommand(plan + dir.File("robot.yaml") + report);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("t.csv: a recording of robot 'tigrillo'"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace gaitforge::testing

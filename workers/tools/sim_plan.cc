@@ -38,15 +38,34 @@ struct Setting {
   double residual = 0;  // the smallest training error of any explanation
 };
 
+// A plan compares every recording with one model at one rate: a recording of another robot,
+// or sampled at another rate than the first (beyond 1%), is refused, as the coordinator
+// refuses it in a diagnosis (services/coordinator/recordings.cc).
+absl::Status SameRobotAndRate(const recording::Recording& rec, const std::string& path,
+                              const GenericRun& run, const std::string& first, double first_dt) {
+  if (rec.meta.robot != run.robot->name)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--recordings ", path, ": a recording of robot '", rec.meta.robot, "', the spec's robot is '",
+        run.robot->name, "': one plan is for one robot"));
+  if (!first.empty() && std::abs(rec.dt - first_dt) > 0.01 * first_dt)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--recordings ", path, ": sampled every ", rec.dt, " s, ", first, " every ", first_dt,
+        " s: a plan's recordings share a rate (resample them to one)"));
+  return absl::OkStatus();
+}
+
 // The recordings' gaits (or playbacks: all of one kind) and their sampling rate (made a
 // whole number of the model's steps).
 absl::Status ReadRecorded(const GenericRun& run, const PlanArgs& a, double timestep_s,
                           Setting* s) {
-  std::string kind;
+  std::string kind, first;
+  double first_dt = 0;
   for (const auto& part : absl::StrSplit(a.recordings, ',', absl::SkipEmpty())) {
     const std::string path(part);
     auto rec = ReadRecording(path, run);
     if (!rec.ok()) return rec.status();
+    if (auto st = SameRobotAndRate(*rec, path, run, first, first_dt); !st.ok()) return st;
+    if (first.empty()) first = path, first_dt = rec->dt;
     const std::string k = rec->meta.command_kind;
     if ((k != "gait" && k != "playback") || (!kind.empty() && k != kind))
       return absl::InvalidArgumentError(absl::StrCat(

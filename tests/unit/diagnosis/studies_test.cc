@@ -156,6 +156,18 @@ TEST(DiagnosisSpec, AHeldOutRecordingThatIsAlsoATrainingOneIsRefused) {
   EXPECT_NE(s.message().find("is also training[0]"), std::string::npos) << s;
 }
 
+// Defaults fills in every effect that applies; a spec left with none would fit a baseline
+// and name nothing, which reads as "no missing physics": refused, naming the field.
+TEST(DiagnosisSpec, ASpecWithNoCandidateLeftIsRefused) {
+  v1::DiagnosisSpec d = Spec();
+  Defaults(&d);
+  ASSERT_GT(d.candidates_size(), 0);
+  d.clear_candidates();
+  const absl::Status s = Validate(d);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << s;
+  EXPECT_NE(s.message().find("field 'candidates': none to fit"), std::string::npos) << s;
+}
+
 TEST(DiagnosisSpec, ARobotWithoutACalibrationObjectiveIsRefusedNamingTheKnownOnes) {
   v1::DiagnosisSpec d = Spec();
   d.set_robot("twobox");
