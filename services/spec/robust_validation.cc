@@ -40,8 +40,16 @@ std::string RangeError(const robots::RobotDescriptor& robot, const std::string& 
       if (std::string bad = p->Check(v); !bad.empty()) return bad;
     return "";
   }
-  if (robot.FindScale(name) != nullptr)
-    return lo > 0 ? "" : absl::StrCat(name, " is a factor: lo = ", lo, " must be > 0");
+  if (const robots::Scale* scale = robot.FindScale(name)) {
+    if (!(lo > 0)) return absl::StrCat(name, " is a factor: lo = ", lo, " must be > 0");
+    // The factor multiplies the descriptor's values: each product must stay in its range.
+    for (const std::string& field : scale->multiplies)
+      if (const robots::Parameter* p = robot.FindParameter(field))
+        for (double f : {lo, hi})
+          if (std::string bad = p->Check(f * p->value); !bad.empty())
+            return absl::StrCat(name, " = ", f, " makes ", bad);
+    return "";
+  }
   if (const auto* e = effects::BuilderParam(name, robot))
     if (!(lo >= e->lo && hi <= e->hi))
       return absl::StrCat(name, " = [", lo, ", ", hi, "] ", e->unit, " leaves [", e->lo, ", ",

@@ -48,6 +48,14 @@ TEST(RobustSpec, BadValuesNameTheirFieldAndRange) {
                               "range [1, 256]")));
   EXPECT_THAT(Error("    statistic: quantile\n    quantile: 1.5\n"),
               HasSubstr("field 'objective.robust.quantile' = 1.5 must lie in (0, 1)"));
+  for (const char* q : {"0", "1", "-0.25"})  // the interval is open at both ends
+    EXPECT_THAT(Error(std::string("    statistic: quantile\n    quantile: ") + q + "\n"),
+                HasSubstr("must lie in (0, 1)")) << q;
+  // A factor is checked through what it multiplies: 0.030 kg x 50 leaves [0.001, 1] kg.
+  EXPECT_THAT(Error("    parameters:\n      - {name: scale.mass, lo: 0.5, hi: 50}\n"),
+              AllOf(HasSubstr("field 'objective.robust.parameters[0].name'"),
+                    HasSubstr("scale.mass = 50 makes lumps.mass_kg = 1.5 kg is outside")));
+  EXPECT_EQ(Error("    parameters:\n      - {name: scale.mass, lo: 0.5, hi: 2}\n"), "accepted");
   EXPECT_THAT(Error("    statistic: median\n"),
               HasSubstr("'median' is not one of mean, quantile, mean_minus_sd"));
   EXPECT_THAT(Error("    parameters:\n      - {name: actuators.force_n, lo: 5, hi: 200}\n"),
