@@ -4,7 +4,8 @@ binary gaitforge-bench-caterpillar-mujoco) from Python, with rig2d.py's interfac
 of a batch of gaits, and recordings.
 
 Effects (one dict per run) in the build's own forms: hose_n, hose_n_per_m (a pull straight
-back on the rear lump, growing with travel), drag_n_s_per_m (linear, over all lumps),
+back on the rear lump, growing with travel from rest, or from the markers' mean x
+hose_anchor_x_m), drag_n_s_per_m (linear, over all lumps),
 actuator_lag_s, slope_rad, force_scale; and the build's own structure varied (nulls of another
 build): ground_mu (default 2), contact_time_s (default 0.002). Runs are split over `jobs` processes.
 """

@@ -4,8 +4,9 @@ suite (bench/diagnosis/make_robot_cases.py, make_arm_cases.py), take the recordi
 would separate the diagnosis's explanations (the plan the diagnosis kept, --kept, or a
 new one from `gaitforge diagnose plan`), record them on the case's own reference (the
 sealed answer's effect and numerics: the stand-in for the real robot running the proposed
-experiment), and write a new case that trains on the old recordings plus the proposed ones
-and holds out the same. Then diagnose it as any case (tests/diagnosis/run_suite.py --cases
+experiment; for the independent builds' suites, tests/diagnosis/foreign and foreign-mujoco,
+that build with its own form of the effect), and write a new case that trains on the old
+recordings plus the proposed ones and holds out the same. Then diagnose it as any case (tests/diagnosis/run_suite.py --cases
 CASE-planned); bench/diagnosis/plan_protocol.py does both for a whole suite.
 
     /usr/bin/python3 bench/diagnosis/plan_cases.py --suite tests/diagnosis/robots/walker \\
@@ -33,6 +34,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_arm_cases  # noqa: E402
+import make_foreign_cases  # noqa: E402
 from make_cases import read_csv  # noqa: E402
 from make_robot_cases import ROBOTS, disguise, simulate, overrides_text  # noqa: E402
 
@@ -104,6 +106,11 @@ def record(bin_dir, robot, answer, proposal, dst, seed, case_dir=""):
             varied_inputs(src, proposal["inputs"], inputs)
             make_arm_cases.simulate(os.path.join(bin_dir, "gaitforge-sim"), inputs, answer["params"], raw)
             make_arm_cases.disguise(raw, dst, seed)
+        return
+    build = make_foreign_cases.build_of(answer)
+    if build:  # an independent build (rig2d, MuJoCo): its own form of the concealed effect
+        make_foreign_cases.record_gait(build, proposal["gene_values"], answer["rig_effects"], dst,
+                                       seed, settle=0, cycles=proposal["cycles"])
         return
     spec = dict(ROBOTS[robot], settle=0, cycles=proposal["cycles"])
     genes = ",".join(repr(g) for g in proposal["gene_values"])

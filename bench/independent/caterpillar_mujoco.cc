@@ -24,7 +24,8 @@
 //   gaitforge-bench-caterpillar-mujoco [--settle N] [--cycles N] [--record FILE --rate HZ]
 //
 // Reads one run per line on stdin: the 13 genes of the paper's gait (a_T1..a_B3, d_T1..d_B3,
-// T), then any of hose_n=, hose_n_per_m=, drag_n_s_per_m=, actuator_lag_s=, slope_rad=,
+// T), then any of hose_n=, hose_n_per_m= (with hose_anchor_x_m=, the markers' mean x from
+// which the hose's travel counts; default: where they rest), drag_n_s_per_m=, actuator_lag_s=, slope_rad=,
 // force_scale=, ground_mu=, contact_time_s=. Prints one line per run: the forward travel per cycle (m) of the markers'
 // mean x over --cycles periods after --settle, or "nan REASON" for a run that diverged. --record writes the
 // first run's markers (docs/recording-format.md) from the end of the settle cycles.
@@ -205,9 +206,16 @@ std::string Simulate(const Run& run, int settle, int cycles, std::ostream* recor
   mjModel* m = Load(Mjcf(run.effect("slope_rad"), run.effect("ground_mu", kMu),
                          run.effect("contact_time_s", kContactTime)));
   mjData* d = mj_makeData(m);
+  // The markers' positions at rest: mj_makeData leaves site_xpos at zero until kinematics
+  // run (before this, the rest position read 0 and a recording from rest began with zeros).
+  // Kinematics only: the dynamics and the solver's warm start are untouched.
+  mj_kinematics(m, d);
   std::vector<double> lagged(6, 0.0);
   const double period = run.genes[12], start = settle * period, end = (settle + cycles) * period;
-  const double x_rest = MarkerMeanX(m, d, nullptr);
+  // Where a growing hose counts its travel from: the rest position, or hose_anchor_x_m (the
+  // suite's growing-hose cases of session 21 and 40 were recorded with it at 0, the bug above).
+  const double x_rest = run.effects.count("hose_anchor_x_m") ? run.effect("hose_anchor_x_m")
+                                                             : MarkerMeanX(m, d, nullptr);
   double x_start = NAN, next_sample = start;
   std::string reason;
   if (record) {
@@ -243,9 +251,9 @@ Run Parse(const std::string& line, int number) {
       run.effects[token.substr(0, eq)] = std::stod(token.substr(eq + 1));
     }
   }
-  static const std::vector<std::string> known = {"hose_n",    "hose_n_per_m", "drag_n_s_per_m",
-                                                 "actuator_lag_s", "slope_rad", "force_scale",
-                                                 "ground_mu", "contact_time_s"};
+  static const std::vector<std::string> known = {"hose_n",    "hose_n_per_m", "hose_anchor_x_m",
+                                                 "drag_n_s_per_m", "actuator_lag_s", "slope_rad",
+                                                 "force_scale", "ground_mu", "contact_time_s"};
   const std::string where = "stdin:" + std::to_string(number) + ": ";
   for (const auto& [name, value] : run.effects)
     if (std::find(known.begin(), known.end(), name) == known.end()) {
