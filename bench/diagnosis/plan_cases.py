@@ -134,6 +134,10 @@ def main():
     ap.add_argument("--propose", type=int, default=2)
     ap.add_argument("--random", type=int, default=12)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--as", dest="split", default="train", choices=["train", "held_out"],
+                    help="where the recorded proposals go: training (fitted, the default) or "
+                         "held out (they decide: the fits' predictions of them are compared); "
+                         "the new case is CASE-planned or CASE-planned-held")
     ap.add_argument("--out-suite", default="")
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "bin"))
     a = ap.parse_args()
@@ -152,7 +156,7 @@ def main():
             c, p = plan(a.bin, a.suite, a.case, report, a, work)
     proposals = p["plan"][: a.take] if a.take > 0 else p["plan"]
     out_suite = a.out_suite or tempfile.mkdtemp(prefix="gf-plan-suite-")
-    new_case = a.case + "-planned"
+    new_case = a.case + ("-planned" if a.split == "train" else "-planned-held")
     new_dir = os.path.join(out_suite, "cases", new_case)
     shutil.rmtree(new_dir, ignore_errors=True)
     for split in ("train", "held_out"):
@@ -164,10 +168,10 @@ def main():
         json.dump(p, f, indent=1)
     added = []
     for k, proposal in enumerate(proposals):
-        rel = f"train/planned-{k + 1}.csv"
+        rel = f"{a.split}/planned-{k + 1}.csv"
         record(a.bin, c["robot"], answer, proposal, os.path.join(new_dir, rel), seed_of(new_case, k),
                case_dir)
-        c["train"].append(rel)
+        c[a.split].append(rel)
         added.append({"file": rel, "candidate": proposal["name"], "inputs": proposal.get("inputs")})
     with open(os.path.join(new_dir, "case.json"), "w") as f:
         f.write(json.dumps(c, indent=2) + "\n")
@@ -176,8 +180,8 @@ def main():
     answers[new_case] = {**answer, "planned_from": {"case": a.case, "recordings": added}}
     with open(answers_path, "w") as f:
         f.write(json.dumps(answers, indent=2) + "\n")
-    print(f"wrote {os.path.relpath(new_dir)}: {len(c['train'])} training recordings "
-          f"({len(added)} planned), {len(c['held_out'])} held out")
+    print(f"wrote {os.path.relpath(new_dir)}: {len(c['train'])} training recordings, "
+          f"{len(c['held_out'])} held out ({len(added)} planned, {a.split})")
     return 0
 
 
