@@ -38,10 +38,12 @@ def main():
     ap.add_argument("--screening", type=int, default=96)
     ap.add_argument("--full", type=int, default=480)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--as", dest="split", default="train", choices=["train", "held_out"],
+                    help="where the recorded proposal goes (plan_cases.py --as)")
     ap.add_argument("--json-out", required=True)
     args = ap.parse_args()
     names = args.cases.split(",") if args.cases else sorted(
-        c for c in os.listdir(os.path.join(args.suite, "cases")) if not c.endswith("-planned"))
+        c for c in os.listdir(os.path.join(args.suite, "cases")) if "-planned" not in c)
     results, rows = [], []
     for case in names:
         first = run_suite.diagnose(args.bin_dir, args.suite, case, args.screening, args.full, args.workers)
@@ -52,13 +54,15 @@ def main():
             # The result just saved holds the plan the diagnosis kept.
             recorded = subprocess.run([sys.executable, os.path.join(HERE, "plan_cases.py"), "--suite",
                                        args.suite, "--case", case, "--results", args.json_out,
-                                       "--kept", "--take", "1", "--out-suite", args.suite,
+                                       "--kept", "--take", "1", "--as", args.split,
+                                       "--out-suite", args.suite,
                                        "--bin", args.bin_dir])
             if recorded.returncode != 0:
                 rows.append((case, verdict(first), "yes", "not recorded (plan_cases.py failed)"))
                 print("%-18s %-40s asked: %-3s -> %s" % rows[-1], flush=True)
                 continue
-            final = run_suite.diagnose(args.bin_dir, args.suite, case + "-planned", args.screening,
+            suffix = "-planned" if args.split == "train" else "-planned-held"
+            final = run_suite.diagnose(args.bin_dir, args.suite, case + suffix, args.screening,
                                        args.full, args.workers)
             results.append(final)
         rows.append((case, verdict(first), "yes" if first.get("plan") else "no", verdict(final)))

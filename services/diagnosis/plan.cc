@@ -348,6 +348,9 @@ absl::StatusOr<std::string> PlanWords(const std::string& json, const std::string
     absl::StrAppend(&out, "  no candidate decides: ", absl::StrJoin(open, "; "),
                     " (the model's residual hides the difference: longer or other recordings "
                     "might tell)\n");
+  if (steps.values_size() > 0)  // measured on the MuJoCo build: docs/diagnosis.md
+    absl::StrAppend(&out, "  record them, add them to the spec's held_out (there the "
+                          "explanations' predictions of them are compared) and diagnose again\n");
   return out;
 }
 

@@ -3,7 +3,8 @@
 kept (in a run_suite.py result) is played on the reference with the rod forces varied as it
 says (scaled, let go), added to training, and the case keeps its held-out recordings; a
 result without a plan, and a plan that plays a recording the case lacks, are refused
-naming what is missing. Runs the real gaitforge-sim (about 2 s).
+naming what is missing; and a MuJoCo case's plan recorded on that build and held out
+(--as held_out). Runs the real gaitforge-sim and MuJoCo build (about 3 s).
 
     /usr/bin/python3 tests/diagnosis/plan_cases_test.py --bin-dir build/bin
 """
@@ -40,6 +41,44 @@ def run(bin_dir, suite, results):
     return subprocess.run([sys.executable, SCRIPT, "--suite", suite, "--case", CASE, "--results",
                            results, "--kept", "--take", "1", "--out-suite", suite, "--bin", bin_dir],
                           capture_output=True, text=True)
+
+
+def check_foreign(bin_dir, check):
+    """A MuJoCo case's kept plan (gait A, 2 cycles from rest) recorded on the MuJoCo build
+    with the case's own hose, and held out (--as held_out): training stays as it was, the
+    recording starts from the robot at rest (its markers 32 mm apart, not all at 0)."""
+    suite_src, case = os.path.join(HERE, "foreign-mujoco"), "mujoco-hose"
+    genes = [0.066346, 0.922283, 0.998848, 0.914959, 0.0137641, 0.0273953, 0.32784, 0.361167,
+             0.106263, 0.40778, 0.362727, 0.304114, 0.354446]
+    with tempfile.TemporaryDirectory() as tmp:
+        suite = os.path.join(tmp, "suite")
+        shutil.copytree(os.path.join(suite_src, "cases", case), os.path.join(suite, "cases", case))
+        with open(os.path.join(suite_src, "answers.sealed.json")) as f:
+            answer = json.load(f)[case]
+        with open(os.path.join(suite, "answers.sealed.json"), "w") as f:
+            json.dump({case: answer}, f)
+        results = os.path.join(tmp, "r.json")
+        with open(results, "w") as f:
+            json.dump({"results": [{"case": case, "plan": {"plan": [
+                {"name": "gait-a.csv, longer", "gene_values": genes, "cycles": 2}]}}]}, f)
+        r = subprocess.run([sys.executable, SCRIPT, "--suite", suite, "--case", case, "--results",
+                            results, "--kept", "--take", "1", "--as", "held_out", "--out-suite",
+                            suite, "--bin", bin_dir], capture_output=True, text=True,
+                           env={**os.environ, "GAITFORGE_BIN": bin_dir})
+        check(r.returncode == 0, f"plan_cases on MuJoCo failed: {r.stderr}")
+        out = os.path.join(suite, "cases", case + "-planned-held")
+        with open(os.path.join(out, "case.json")) as f:
+            c = json.load(f)
+        check(c["train"] == ["train/gait-a.csv", "train/gait-b.csv"], f"training set {c['train']}")
+        check(c["held_out"] == ["held_out/gait-c.csv", "held_out/planned-1.csv"],
+              f"held out {c['held_out']}")
+        header, got = read(os.path.join(out, "held_out", "planned-1.csv"))
+        gap = got[0, header.index("m2.x")] - got[0, header.index("m1.x")]
+        check(0.02 < gap < 0.045, f"first row's m2.x - m1.x = {gap}: not the robot at rest")
+        check(got[-1, 0] - got[0, 0] > 0.6, "not two cycles of 0.354 s")
+        with open(os.path.join(suite, "answers.sealed.json")) as f:
+            planned = json.load(f)[case + "-planned-held"]
+        check(planned["rig_effects"] == answer["rig_effects"], f"answer {planned}")
 
 
 def main():
@@ -98,6 +137,7 @@ def main():
             json.dump(plan("walk.csv", 1, None), f)
         r = run(args.bin_dir, suite, plan_path)
         check(r.returncode != 0 and "plays 'walk.csv'" in r.stderr, f"bad plan: {r.stderr}")
+    check_foreign(args.bin_dir, check)
     for f in failures:
         print("FAIL:", f)
     print("plan_cases_test:", "ok" if not failures else f"{len(failures)} failure(s)")

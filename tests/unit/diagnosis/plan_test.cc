@@ -197,6 +197,7 @@ TEST(Plan, InWordsThePlanSaysWhatEachRecordingSeparatesAndWhatStaysOpen) {
   EXPECT_NE(w->find("separates ground.slope from friction.anisotropic by 2.5x"), std::string::npos);
   EXPECT_NE(w->find("no candidate decides: none from friction.anisotropic (best 0.3x)"),
             std::string::npos) << *w;
+  EXPECT_NE(w->find("add them to the spec's held_out"), std::string::npos) << *w;
 }
 
 }  // namespace
