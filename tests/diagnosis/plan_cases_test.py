@@ -43,6 +43,17 @@ def run(bin_dir, suite, results):
                           capture_output=True, text=True)
 
 
+def copy_case(src_suite, case, tmp):
+    """A suite in `tmp` holding only `case` and its answer; returns (suite, answer)."""
+    suite = os.path.join(tmp, "suite")
+    shutil.copytree(os.path.join(src_suite, "cases", case), os.path.join(suite, "cases", case))
+    with open(os.path.join(src_suite, "answers.sealed.json")) as f:
+        answer = json.load(f)[case]
+    with open(os.path.join(suite, "answers.sealed.json"), "w") as f:
+        json.dump({case: answer}, f)
+    return suite, answer
+
+
 def check_foreign(bin_dir, check):
     """A MuJoCo case's kept plan (gait A, 2 cycles from rest) recorded on the MuJoCo build
     with the case's own hose, and held out (--as held_out): training stays as it was, the
@@ -51,12 +62,7 @@ def check_foreign(bin_dir, check):
     genes = [0.066346, 0.922283, 0.998848, 0.914959, 0.0137641, 0.0273953, 0.32784, 0.361167,
              0.106263, 0.40778, 0.362727, 0.304114, 0.354446]
     with tempfile.TemporaryDirectory() as tmp:
-        suite = os.path.join(tmp, "suite")
-        shutil.copytree(os.path.join(suite_src, "cases", case), os.path.join(suite, "cases", case))
-        with open(os.path.join(suite_src, "answers.sealed.json")) as f:
-            answer = json.load(f)[case]
-        with open(os.path.join(suite, "answers.sealed.json"), "w") as f:
-            json.dump({case: answer}, f)
+        suite, answer = copy_case(suite_src, case, tmp)
         results = os.path.join(tmp, "r.json")
         with open(results, "w") as f:
             json.dump({"results": [{"case": case, "plan": {"plan": [
@@ -92,12 +98,7 @@ def main():
             failures.append(what)
 
     with tempfile.TemporaryDirectory() as tmp:
-        suite = os.path.join(tmp, "suite")
-        shutil.copytree(os.path.join(SUITE, "cases", CASE), os.path.join(suite, "cases", CASE))
-        with open(os.path.join(SUITE, "answers.sealed.json")) as f:
-            answer = json.load(f)[CASE]
-        with open(os.path.join(suite, "answers.sealed.json"), "w") as f:
-            json.dump({CASE: answer}, f)
+        suite, answer = copy_case(SUITE, CASE, tmp)
         plan_path = os.path.join(tmp, "plan.json")
         with open(plan_path, "w") as f:
             # As a diagnosis keeps it: its local copies are named HASH-NAME.
