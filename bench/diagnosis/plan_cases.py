@@ -6,8 +6,10 @@ new one from `gaitforge diagnose plan`), record them on the case's own reference
 sealed answer's effect and numerics: the stand-in for the real robot running the proposed
 experiment; for the independent builds' suites, tests/diagnosis/foreign and foreign-mujoco,
 that build with its own form of the effect), and write a new case that trains on the old
-recordings plus the proposed ones and holds out the same. Then diagnose it as any case (tests/diagnosis/run_suite.py --cases
-CASE-planned); bench/diagnosis/plan_protocol.py does both for a whole suite.
+recordings plus the proposed ones and holds out the same (--as held_out: holds them out
+too, CASE-planned-held; on the MuJoCo suite only that decided, foreign-mujoco/README.md).
+Then diagnose it as any case (tests/diagnosis/run_suite.py --cases CASE-planned);
+bench/diagnosis/plan_protocol.py does both for a whole suite.
 
     /usr/bin/python3 bench/diagnosis/plan_cases.py --suite tests/diagnosis/robots/walker \\
         --case anisotropic-1 --results tests/diagnosis/robots/results/walker-h05b-session22.json \\
