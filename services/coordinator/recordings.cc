@@ -119,7 +119,7 @@ absl::Status Recordings::CheckOneRobotAndRate(
       if (dt == 0) {
         dt = r->dt;
         first = path;
-      } else if (std::abs(r->dt - dt) > 0.01 * dt) {
+      } else if (!recording::SameRate(r->dt, dt)) {
         return absl::InvalidArgumentError(absl::StrFormat(
             "field '%s': recording '%s' is sampled every %g s, %s every %g s: one spec's "
             "recordings share a rate (resample them to one)",

@@ -399,6 +399,8 @@ absl::Status CheckSampling(const std::string& name, const RecordingLimits& limit
 
 }  // namespace
 
+bool SameRate(double dt, double first) { return std::abs(dt - first) <= 0.01 * first; }
+
 int Recording::ChannelIndex(std::string_view name) const {
   for (size_t i = 0; i < channels.size(); ++i)
     if (channels[i] == name) return static_cast<int>(i);

@@ -72,6 +72,10 @@ absl::StatusOr<Recording> ParseRecording(std::string_view csv, std::string_view 
 absl::StatusOr<std::string> SidecarRobot(std::string_view sidecar, const std::string& sidecar_name,
                                          const robots::RobotDescriptor* robot = nullptr);
 
+// Whether two recordings' sampling intervals are one rate (within 1% of `first`): what one
+// diagnosis or plan compares against one model must share it.
+bool SameRate(double dt, double first);
+
 // Content address: lowercase hex SHA-256 over the CSV bytes, a zero byte, the sidecar bytes.
 std::string ContentHash(std::string_view csv, std::string_view sidecar);
 

@@ -47,7 +47,7 @@ absl::Status SameRobotAndRate(const recording::Recording& rec, const std::string
     return absl::InvalidArgumentError(absl::StrCat(
         "--recordings ", path, ": a recording of robot '", rec.meta.robot, "', the spec's robot is '",
         run.robot->name, "': one plan is for one robot"));
-  if (!first.empty() && std::abs(rec.dt - first_dt) > 0.01 * first_dt)
+  if (!first.empty() && !recording::SameRate(rec.dt, first_dt))
     return absl::InvalidArgumentError(absl::StrCat(
         "--recordings ", path, ": sampled every ", rec.dt, " s, ", first, " every ", first_dt,
         " s: a plan's recordings share a rate (resample them to one)"));

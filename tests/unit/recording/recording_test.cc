@@ -583,5 +583,13 @@ TEST(RecordingTest, ParsesAHundredThousandRows) {
   std::printf("parsed %d rows x 19 columns (%zu bytes) in %.3f s\n", rows, csv.size(), s);
 }
 
+// One rate within 1% of the first recording's interval (a clock's drift), not beyond.
+TEST(SameRateTest, WithinOnePercentOfTheFirstIsOneRate) {
+  EXPECT_TRUE(SameRate(0.01, 0.01));
+  EXPECT_TRUE(SameRate(0.01005, 0.01));
+  EXPECT_FALSE(SameRate(0.02, 0.01));
+  EXPECT_FALSE(SameRate(0.0098, 0.01));
+}
+
 }  // namespace
 }  // namespace gaitforge::recording
